@@ -1,0 +1,53 @@
+// Small fixed-size vectors: Vec2f, Vec3f and the operations a ray caster needs.
+// Plain structs with public fields, so arrays of them are flat float data.
+#pragma once
+
+#include <cmath>
+
+namespace raycast {
+
+struct Vec2f {
+    float x = 0, y = 0;
+};
+
+struct Vec3f {
+    float x = 0, y = 0, z = 0;
+
+    constexpr Vec3f() = default;
+    constexpr Vec3f(float x_, float y_, float z_) : x(x_), y(y_), z(z_) {}
+
+    /// Component by axis number 0, 1, 2 (x, y, z).
+    constexpr float operator[](int axis) const { return axis == 0 ? x : (axis == 1 ? y : z); }
+    constexpr float& operator[](int axis) { return axis == 0 ? x : (axis == 1 ? y : z); }
+};
+
+constexpr Vec3f operator+(Vec3f a, Vec3f b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+constexpr Vec3f operator-(Vec3f a, Vec3f b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+constexpr Vec3f operator-(Vec3f a) { return {-a.x, -a.y, -a.z}; }
+constexpr Vec3f operator*(Vec3f a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+constexpr Vec3f operator*(float s, Vec3f a) { return {s * a.x, s * a.y, s * a.z}; }
+constexpr Vec3f operator/(Vec3f a, float s) { return {a.x / s, a.y / s, a.z / s}; }
+/// Component-wise product (colours, scales).
+constexpr Vec3f operator*(Vec3f a, Vec3f b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+constexpr Vec3f& operator+=(Vec3f& a, Vec3f b) { return a = a + b; }
+constexpr bool operator==(Vec3f a, Vec3f b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+constexpr bool operator!=(Vec3f a, Vec3f b) { return !(a == b); }
+
+constexpr float dot(Vec3f a, Vec3f b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+constexpr Vec3f cross(Vec3f a, Vec3f b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline float length(Vec3f a) { return std::sqrt(dot(a, a)); }
+/// a / |a|; the zero vector stays zero rather than becoming NaN.
+inline Vec3f normalize(Vec3f a) {
+    const float len = length(a);
+    return len > 0 ? a / len : a;
+}
+inline Vec3f min(Vec3f a, Vec3f b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
+inline Vec3f max(Vec3f a, Vec3f b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
+inline Vec3f abs(Vec3f a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
+inline bool is_finite(Vec3f a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+/// The axis (0, 1, 2) of the largest component.
+constexpr int max_axis(Vec3f a) { return a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2); }
+
+}  // namespace raycast
