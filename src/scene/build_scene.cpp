@@ -1,0 +1,248 @@
+#include "scene/build_scene.h"
+
+#include <cmath>
+
+#include "bvh/build_bvh.h"
+
+namespace raycast {
+
+namespace {
+
+Diagnostic error_at(const SourceLocation& location, std::string message) {
+    return Diagnostic{Severity::Error, location, std::move(message), ""};
+}
+
+// Widens a box by a relative margin, so that rounding in the object-space tests (with a
+// float inverse matrix) cannot put a hit just outside the box the BVH holds.
+Bounds3f pad(Bounds3f b) {
+    for (int axis = 0; axis < 3; ++axis) {
+        const float margin = (std::fabs(b.lower[axis]) + std::fabs(b.upper[axis])) * (1.0f / 65536) + 1e-30f;
+        b.lower[axis] -= margin;
+        b.upper[axis] += margin;
+    }
+    return b;
+}
+
+Bounds3f transform_bounds(const Mat4& m, const Bounds3f& b) {
+    Bounds3f result;
+    for (int corner = 0; corner < 8; ++corner) {
+        const Vec3f p{(corner & 1) ? b.upper.x : b.lower.x, (corner & 2) ? b.upper.y : b.lower.y,
+                      (corner & 4) ? b.upper.z : b.lower.z};
+        result.grow(transform_point(m, p));
+    }
+    return result;
+}
+
+// The exact box of an ellipsoid M·(sphere): along axis i it reaches r·|row i of M's 3×3 part|.
+Bounds3f transformed_sphere_bounds(const Mat4& m, const Sphere& sphere) {
+    const Vec3f center = transform_point(m, sphere.center);
+    Bounds3f result;
+    for (int i = 0; i < 3; ++i) {
+        const float reach = sphere.radius * std::sqrt(m.m[i][0] * m.m[i][0] + m.m[i][1] * m.m[i][1] + m.m[i][2] * m.m[i][2]);
+        result.lower[i] = center[i] - reach;
+        result.upper[i] = center[i] + reach;
+    }
+    return result;
+}
+
+Bounds3f sphere_bounds(const Sphere& sphere) {
+    const Vec3f reach{sphere.radius, sphere.radius, sphere.radius};
+    return {sphere.center - reach, sphere.center + reach};
+}
+
+class SceneBuilder {
+public:
+    SceneBuilder(SceneDesc& desc, const SceneBuildOptions& options) : desc_(desc), options_(options) {}
+
+    Scene build() {
+        scene_.conventions = options_.conventions;
+        make_camera_and_lights();
+        mesh_shape_of_.assign(desc_.meshes.size(), -1);
+        if (desc_.root) add_object(*desc_.root, Mat4::identity(), false);
+        if (!errors_.empty()) throw InputError(std::move(errors_));
+        build_instance_bvh();
+        return std::move(scene_);
+    }
+
+private:
+    void make_camera_and_lights() {
+        if (!desc_.camera) throw InputError({error_at({desc_.file, 0, 0}, "the scene has no camera")});
+        const CameraDesc& camera = *desc_.camera;
+        const int width = options_.width > 0 ? options_.width : camera.width;
+        const int height = options_.height > 0 ? options_.height : camera.height;
+        if (width <= 0 || height <= 0)
+            throw InputError({error_at(camera.location,
+                                       "the camera gives no image size: add width and height, or use --size WxH "
+                                       "(-size W H)")});
+        scene_.camera = make_camera(camera, width, height, options_.conventions);
+        scene_.background = desc_.background;
+        if (desc_.ambient)
+            scene_.ambient = *desc_.ambient;
+        else if (options_.conventions.ambient_without_lights && !desc_.has_lights_block)
+            scene_.ambient = {1, 1, 1};
+        for (const LightDesc& l : desc_.lights) {
+            Light light;
+            light.kind = l.kind == LightDesc::Kind::Directional ? Light::Kind::Directional : Light::Kind::Point;
+            light.direction = normalize(l.direction);
+            light.position = l.position;
+            light.color = l.color;
+            light.attenuation = l.attenuation;
+            scene_.lights.push_back(light);
+        }
+        for (const MaterialDesc& m : desc_.materials) {
+            Material material;
+            material.diffuse = m.diffuse;
+            material.specular = m.specular;
+            material.shininess = m.shininess ? *m.shininess : options_.conventions.default_shininess;
+            material.reflective = m.reflective;
+            material.transparent = m.transparent;
+            material.index_of_refraction = m.index_of_refraction;
+            scene_.materials.push_back(material);
+        }
+    }
+
+    // world_from_object: the product of the enclosing transforms; `moved`: whether it is not
+    // the identity (kept apart so that an identity Transform costs nothing at render time).
+    void add_object(const ObjectDesc& object, const Mat4& world_from_object, bool moved) {
+        switch (object.kind) {
+            case ObjectDesc::Kind::Group:
+                for (const ObjectDesc& child : object.children) add_object(child, world_from_object, moved);
+                return;
+            case ObjectDesc::Kind::Transform: {
+                const Mat4 combined = world_from_object * object.world_from_object;
+                const bool combined_moved = moved || !object.world_from_object.is_identity();
+                if (combined_moved) {
+                    bool invertible = false;
+                    inverse(combined, &invertible);
+                    if (!invertible) {
+                        errors_.push_back(error_at(object.location,
+                                                   "this transform cannot be inverted (it squashes space flat): "
+                                                   "check for a zero scale"));
+                        return;
+                    }
+                }
+                for (const ObjectDesc& child : object.children) add_object(child, combined, combined_moved);
+                return;
+            }
+            default:
+                add_primitive(object, world_from_object, moved);
+        }
+    }
+
+    void add_primitive(const ObjectDesc& object, const Mat4& world_from_object, bool moved) {
+        Instance instance;
+        instance.material = static_cast<uint32_t>(object.material);
+        Mat4 object_from_world;
+        if (moved) {
+            object_from_world = inverse(world_from_object);
+            if (object.kind != ObjectDesc::Kind::Plane) {
+                instance.transform = static_cast<uint32_t>(scene_.object_from_world.size());
+                scene_.object_from_world.push_back(object_from_world);
+            }
+        }
+        const uint32_t id = static_cast<uint32_t>(scene_.instances.size());
+        switch (object.kind) {
+            case ObjectDesc::Kind::Sphere:
+                instance.kind = ShapeKind::Sphere;
+                instance.shape = static_cast<uint32_t>(scene_.spheres.size());
+                scene_.spheres.push_back(object.sphere);
+                bounds_.push_back({pad(moved ? transformed_sphere_bounds(world_from_object, object.sphere)
+                                             : sphere_bounds(object.sphere)),
+                                   id});
+                break;
+            case ObjectDesc::Kind::Plane: {
+                // n·(M⁻¹p) = d for object-space points is the world plane (M⁻ᵀn)·p = d − n·(M⁻¹'s
+                // translation): the same set of points, so the same t along any ray.
+                Plane plane = object.plane;
+                if (moved) {
+                    const Mat4& a = object_from_world;
+                    const Vec3f n = plane.normal;
+                    plane.normal = {a.m[0][0] * n.x + a.m[1][0] * n.y + a.m[2][0] * n.z,
+                                    a.m[0][1] * n.x + a.m[1][1] * n.y + a.m[2][1] * n.z,
+                                    a.m[0][2] * n.x + a.m[1][2] * n.y + a.m[2][2] * n.z};
+                    plane.offset = plane.offset - dot(n, Vec3f{a.m[0][3], a.m[1][3], a.m[2][3]});
+                }
+                instance.kind = ShapeKind::Plane;
+                instance.shape = static_cast<uint32_t>(scene_.planes.size());
+                scene_.planes.push_back(plane);
+                scene_.plane_instances.push_back(id);
+                break;
+            }
+            case ObjectDesc::Kind::Triangle: {
+                instance.kind = ShapeKind::Triangle;
+                instance.shape = static_cast<uint32_t>(scene_.triangles.size());
+                const TriangleShape tri{object.vertices[0], object.vertices[1], object.vertices[2]};
+                scene_.triangles.push_back(tri);
+                Bounds3f b;
+                for (const Vec3f& p : object.vertices) b.grow(moved ? transform_point(world_from_object, p) : p);
+                bounds_.push_back({pad(b), id});
+                break;
+            }
+            case ObjectDesc::Kind::TriangleMesh: {
+                instance.kind = ShapeKind::Mesh;
+                instance.shape = mesh_shape(object.mesh);
+                const Bounds3f local = scene_.meshes[instance.shape].bounds;
+                if (!local.is_empty())
+                    bounds_.push_back({pad(moved ? transform_bounds(world_from_object, local) : local), id});
+                break;
+            }
+            default:
+                return;
+        }
+        scene_.instances.push_back(instance);
+    }
+
+    uint32_t mesh_shape(int mesh_index) {
+        int& shape = mesh_shape_of_[static_cast<size_t>(mesh_index)];
+        if (shape < 0) {
+            shape = static_cast<int>(scene_.meshes.size());
+            scene_.meshes.push_back(
+                build_mesh_shape(std::move(desc_.meshes[static_cast<size_t>(mesh_index)].mesh), options_.threads));
+        }
+        return static_cast<uint32_t>(shape);
+    }
+
+    void build_instance_bvh() {
+        BvhBuildOptions bvh_options;
+        bvh_options.max_leaf_size = 2;
+        bvh_options.threads = options_.threads;
+        scene_.instance_bvh = build_bvh(std::move(bounds_), bvh_options);
+    }
+
+    SceneDesc& desc_;
+    const SceneBuildOptions& options_;
+    Scene scene_;
+    std::vector<int> mesh_shape_of_;
+    std::vector<BvhPrimitive> bounds_;
+    std::vector<Diagnostic> errors_;
+};
+
+}  // namespace
+
+Scene build_scene(SceneDesc desc, const SceneBuildOptions& options) { return SceneBuilder(desc, options).build(); }
+
+MeshShape build_mesh_shape(TriangleMesh mesh, int threads) {
+    MeshShape shape;
+    const size_t count = mesh.triangle_count();
+    {
+        std::vector<BvhPrimitive> primitives(count);
+        for (size_t i = 0; i < count; ++i) {
+            Bounds3f b;
+            for (int k = 0; k < 3; ++k) b.grow(mesh.positions[mesh.indices[3 * i + static_cast<size_t>(k)]]);
+            primitives[i] = {b, static_cast<uint32_t>(i)};
+        }
+        BvhBuildOptions options;
+        options.threads = threads;
+        shape.bvh = build_bvh(std::move(primitives), options);
+    }
+    shape.leaf_triangles.resize(shape.bvh.prim_order.size());
+    for (size_t i = 0; i < shape.leaf_triangles.size(); ++i) {
+        const uint32_t* corner = &mesh.indices[3 * size_t{shape.bvh.prim_order[i]}];
+        shape.leaf_triangles[i] = {mesh.positions[corner[0]], mesh.positions[corner[1]], mesh.positions[corner[2]]};
+    }
+    if (!shape.bvh.empty()) shape.bounds = shape.bvh.nodes[0].bounds;
+    shape.mesh = std::move(mesh);
+    return shape;
+}
+
+}  // namespace raycast

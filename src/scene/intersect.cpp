@@ -1,0 +1,169 @@
+// Closest-hit and any-hit queries over the two-level scene: planes in a loop, then the instance
+// BVH, whose leaves send the ray (moved to object space where needed) to a shape's own test.
+#include <cmath>
+
+#include "geometry/triangle.h"
+#include "scene/packet_view.h"
+#include "scene/scene.h"
+
+namespace raycast {
+
+namespace {
+
+// Offers a candidate hit; keeps it if it beats the current best.
+inline void offer(Hit& best, float t, float u, float v, uint32_t object, uint32_t prim) {
+    if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim};
+}
+
+template <bool kAnyHit>
+struct Query {
+    const Scene& scene;
+    float t_min;
+    float t_max;  // any-hit: hits must be nearer than this
+    Hit& best;
+    TraceCounters* counters;
+
+    // Returns true when an any-hit query has its answer.
+    bool mesh(const MeshShape& shape, const Ray& ray, uint32_t object) {
+        const WatertightRay tri_ray = make_watertight_ray(ray);
+        const BoxRay box_ray = make_box_ray(ray, t_min);
+        const LeafTriangle* triangles = shape.leaf_triangles.data();
+        const uint32_t* ids = shape.bvh.prim_order.data();
+        return traverse_bvh(
+            shape.bvh, box_ray, [&] { return kAnyHit ? t_max : best.t; },
+            [&](uint32_t first, uint32_t count) {
+                for (uint32_t i = first; i < first + count; ++i) {
+                    TriangleHit hit;
+                    const LeafTriangle& tri = triangles[i];
+                    if (!intersect_triangle(tri_ray, tri.p0, tri.p1, tri.p2, t_min, hit)) continue;
+                    if (kAnyHit) {
+                        if (hit.t < t_max) return true;
+                    } else {
+                        offer(best, hit.t, hit.u, hit.v, object, ids[i]);
+                    }
+                }
+                return false;
+            },
+            counters ? &counters->nodes_visited : nullptr);
+    }
+
+    bool instance(uint32_t id, const Ray& world_ray) {
+        const Instance& inst = scene.instances[id];
+        const Ray ray = inst.transform == kNoTransform ? world_ray
+                                                       : to_object_space(scene.object_from_world[inst.transform], world_ray);
+        switch (inst.kind) {
+            case ShapeKind::Sphere: {
+                float t;
+                if (!intersect_sphere(scene.spheres[inst.shape], ray, t_min, t)) return false;
+                if (kAnyHit) return t < t_max;
+                offer(best, t, 0, 0, id, 0);
+                return false;
+            }
+            case ShapeKind::Triangle: {
+                const TriangleShape& tri = scene.triangles[inst.shape];
+                TriangleHit hit;
+                if (!intersect_triangle(make_watertight_ray(ray), tri.p0, tri.p1, tri.p2, t_min, hit)) return false;
+                if (kAnyHit) return hit.t < t_max;
+                offer(best, hit.t, hit.u, hit.v, id, 0);
+                return false;
+            }
+            case ShapeKind::Mesh:
+                return mesh(scene.meshes[inst.shape], ray, id);
+            case ShapeKind::Plane: {
+                float t;
+                if (!intersect_plane(scene.planes[inst.shape], ray, t_min, t)) return false;
+                if (kAnyHit) return t < t_max;
+                offer(best, t, 0, 0, id, 0);
+                return false;
+            }
+        }
+        return false;
+    }
+
+    bool run(const Ray& ray) {
+        for (uint32_t id : scene.plane_instances)
+            if (instance(id, ray)) return true;
+        const BoxRay box_ray = make_box_ray(ray, t_min);
+        const uint32_t* ids = scene.instance_bvh.prim_order.data();
+        return traverse_bvh(
+            scene.instance_bvh, box_ray, [&] { return kAnyHit ? t_max : best.t; },
+            [&](uint32_t first, uint32_t count) {
+                for (uint32_t i = first; i < first + count; ++i)
+                    if (instance(ids[i], ray)) return true;
+                return false;
+            },
+            counters ? &counters->nodes_visited : nullptr);
+    }
+};
+
+}  // namespace
+
+void intersect(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceCounters* counters) {
+    Query<false>{scene, t_min, INFINITY, hit, counters}.run(ray);
+}
+
+bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max) {
+    Hit unused;
+    return Query<true>{scene, t_min, t_max, unused, nullptr}.run(ray);
+}
+
+SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
+    const Instance& inst = scene.instances[hit.object];
+    SurfacePoint surface;
+    surface.position = ray.at(hit.t);
+    surface.material = inst.material;
+    const Ray object_ray = inst.transform == kNoTransform ? ray : to_object_space(scene.object_from_world[inst.transform], ray);
+    Vec3f normal;
+    switch (inst.kind) {
+        case ShapeKind::Sphere: {
+            const Sphere& sphere = scene.spheres[inst.shape];
+            normal = normalize(object_ray.at(hit.t) - sphere.center);
+            break;
+        }
+        case ShapeKind::Plane:
+            normal = normalize(scene.planes[inst.shape].normal);
+            break;
+        case ShapeKind::Triangle: {
+            const TriangleShape& tri = scene.triangles[inst.shape];
+            normal = triangle_normal(tri.p0, tri.p1, tri.p2);
+            break;
+        }
+        case ShapeKind::Mesh: {
+            const TriangleMesh& mesh = scene.meshes[inst.shape].mesh;
+            const uint32_t* corner = &mesh.indices[3 * size_t{hit.prim}];
+            normal = triangle_normal(mesh.positions[corner[0]], mesh.positions[corner[1]], mesh.positions[corner[2]]);
+            if (mesh.has_normals()) {
+                const uint32_t* n = &mesh.normal_indices[3 * size_t{hit.prim}];
+                if (n[0] != kNoNormal && n[1] != kNoNormal && n[2] != kNoNormal) {
+                    const float w0 = 1 - hit.u - hit.v;
+                    const Vec3f smooth = normalize(mesh.normals[n[0]] * w0 + mesh.normals[n[1]] * hit.u +
+                                                   mesh.normals[n[2]] * hit.v);
+                    if (dot(smooth, smooth) > 0) normal = smooth;
+                }
+            }
+            break;
+        }
+    }
+    if (inst.transform != kNoTransform) normal = transform_normal(scene.object_from_world[inst.transform], normal);
+    surface.normal = normal;
+    return surface;
+}
+
+size_t Scene::triangle_count() const {
+    size_t count = 0;
+    for (const Instance& inst : instances) {
+        if (inst.kind == ShapeKind::Triangle) ++count;
+        if (inst.kind == ShapeKind::Mesh) count += meshes[inst.shape].mesh.triangle_count();
+    }
+    return count;
+}
+
+}  // namespace raycast
+
+namespace raycast {
+
+void intersect_instance(const Scene& scene, uint32_t id, const Ray& world_ray, float t_min, Hit& hit) {
+    Query<false>{scene, t_min, INFINITY, hit, nullptr}.instance(id, world_ray);
+}
+
+}  // namespace raycast

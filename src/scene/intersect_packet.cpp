@@ -1,0 +1,125 @@
+#include "scene/intersect_packet.h"
+
+#include <cstring>
+
+#include "base/check.h"
+
+namespace raycast {
+
+namespace {
+
+PacketKernel kernel_for(PacketIsa isa) {
+    switch (isa) {
+        case PacketIsa::None:
+            return nullptr;
+        case PacketIsa::Portable:
+            return &packet_portable::intersect;
+        case PacketIsa::Sse2:
+#ifdef RAYCAST_HAVE_SSE2_KERNEL
+            return &packet_sse2::intersect;
+#else
+            return nullptr;
+#endif
+        case PacketIsa::Avx2:
+#ifdef RAYCAST_HAVE_AVX2_KERNEL
+            return &packet_avx2::intersect;
+#else
+            return nullptr;
+#endif
+        case PacketIsa::Avx512:
+#ifdef RAYCAST_HAVE_AVX512_KERNEL
+            return &packet_avx512::intersect;
+#else
+            return nullptr;
+#endif
+    }
+    return nullptr;
+}
+
+bool cpu_runs(PacketIsa isa) {
+#if defined(__x86_64__) || defined(__i386__)
+    switch (isa) {
+        case PacketIsa::Sse2:
+            return __builtin_cpu_supports("sse2");
+        case PacketIsa::Avx2:
+            return __builtin_cpu_supports("avx2");
+        case PacketIsa::Avx512:
+            return __builtin_cpu_supports("avx512f");
+        default:
+            return true;
+    }
+#else
+    return isa == PacketIsa::None || isa == PacketIsa::Portable;
+#endif
+}
+
+}  // namespace
+
+const char* packet_isa_name(PacketIsa isa) {
+    switch (isa) {
+        case PacketIsa::None: return "none";
+        case PacketIsa::Portable: return "portable";
+        case PacketIsa::Sse2: return "sse2";
+        case PacketIsa::Avx2: return "avx2";
+        case PacketIsa::Avx512: return "avx512";
+    }
+    return "none";
+}
+
+bool packet_isa_from_name(const char* name, PacketIsa& isa) {
+    for (PacketIsa candidate : {PacketIsa::None, PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2, PacketIsa::Avx512})
+        if (std::strcmp(name, packet_isa_name(candidate)) == 0) {
+            isa = candidate;
+            return true;
+        }
+    return false;
+}
+
+bool packet_isa_available(PacketIsa isa) {
+    return isa == PacketIsa::None || (kernel_for(isa) != nullptr && cpu_runs(isa));
+}
+
+PacketIsa best_packet_isa() {
+    for (PacketIsa isa : {PacketIsa::Avx512, PacketIsa::Avx2, PacketIsa::Sse2, PacketIsa::Portable})
+        if (packet_isa_available(isa)) return isa;
+    return PacketIsa::None;
+}
+
+int packet_isa_lanes(PacketIsa isa) {
+    switch (isa) {
+        case PacketIsa::None: return 1;
+        case PacketIsa::Portable: return 4;
+        case PacketIsa::Sse2: return 4;
+        case PacketIsa::Avx2: return 8;
+        case PacketIsa::Avx512: return 16;
+    }
+    return 1;
+}
+
+PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa) : scene_(scene), isa_(isa), kernel_(kernel_for(isa)) {
+    RAYCAST_CHECK(packet_isa_available(isa));
+    meshes_.reserve(scene.meshes.size());
+    for (const MeshShape& mesh : scene.meshes)
+        meshes_.push_back({mesh.bvh.nodes.data(), mesh.leaf_triangles.data(), mesh.bvh.prim_order.data(),
+                           static_cast<uint32_t>(mesh.bvh.nodes.size())});
+    view_.scene = &scene;
+    view_.instances = scene.instances.data();
+    view_.object_from_world = scene.object_from_world.data();
+    view_.meshes = meshes_.data();
+    view_.instance_nodes = scene.instance_bvh.nodes.data();
+    view_.instance_ids = scene.instance_bvh.prim_order.data();
+    view_.instance_node_count = static_cast<uint32_t>(scene.instance_bvh.nodes.size());
+    view_.plane_instances = scene.plane_instances.data();
+    view_.plane_count = static_cast<uint32_t>(scene.plane_instances.size());
+}
+
+void PacketTracer::intersect(const Ray* rays, int count, float t_min, Hit* hits) const {
+    RAYCAST_DCHECK(count >= 0 && count <= lanes());
+    if (!kernel_) {
+        for (int k = 0; k < count; ++k) raycast::intersect(scene_, rays[k], t_min, hits[k]);
+        return;
+    }
+    kernel_(view_, rays, count, t_min, hits);
+}
+
+}  // namespace raycast

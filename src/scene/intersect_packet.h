@@ -1,0 +1,56 @@
+// Closest hits for small groups of coherent rays (a block of neighbouring pixels), traced
+// together with SIMD instructions: AVX-512, AVX2, SSE2 or portable C++, chosen at run time
+// for the CPU. The hits are exactly those intersect() finds for each ray alone, so the image
+// never depends on which path ran.
+#pragma once
+
+#include <vector>
+
+#include "scene/packet_view.h"
+#include "scene/scene.h"
+
+namespace raycast {
+
+/// The most rays one packet holds.
+constexpr int kMaxPacketLanes = 16;
+
+enum class PacketIsa {
+    None,      ///< no packets: every ray alone
+    Portable,  ///< 4 lanes of plain C++
+    Sse2,      ///< 4 lanes
+    Avx2,      ///< 8 lanes
+    Avx512,    ///< 16 lanes
+};
+
+/// "none", "portable", "sse2", "avx2" or "avx512".
+const char* packet_isa_name(PacketIsa isa);
+/// The instruction set with a name from packet_isa_name, or false if there is none.
+bool packet_isa_from_name(const char* name, PacketIsa& isa);
+/// Whether this build has the kernel and this CPU can run it.
+bool packet_isa_available(PacketIsa isa);
+/// The widest instruction set available.
+PacketIsa best_packet_isa();
+/// Rays per packet: 16, 8, 4, or 1 for None.
+int packet_isa_lanes(PacketIsa isa);
+
+/// Traces packets of rays through one scene with one instruction set.
+class PacketTracer {
+public:
+    /// `isa` must be available; PacketIsa::None traces ray by ray.
+    PacketTracer(const Scene& scene, PacketIsa isa);
+
+    PacketIsa isa() const { return isa_; }
+    int lanes() const { return packet_isa_lanes(isa_); }
+
+    /// Closest hits of rays[0..count) with t > t_min; count <= lanes(); hits must start empty.
+    void intersect(const Ray* rays, int count, float t_min, Hit* hits) const;
+
+private:
+    const Scene& scene_;
+    PacketIsa isa_;
+    PacketKernel kernel_ = nullptr;
+    std::vector<PacketMeshView> meshes_;
+    PacketSceneView view_;
+};
+
+}  // namespace raycast

@@ -1,0 +1,35 @@
+// SIMD wrapper, AVX2: 8 lanes. Included inside a kernel's namespace (no include guard, no
+// includes; <immintrin.h> comes first in the .cpp): see packet_view.h.
+constexpr int kLanes = 8;
+struct VF {
+    __m256 v;
+};
+struct VM {
+    __m256 v;  // all ones in a true lane
+};
+inline VF splat(float x) { return {_mm256_set1_ps(x)}; }
+inline VF load(const float* p) { return {_mm256_loadu_ps(p)}; }
+inline void store(float* p, VF a) { _mm256_storeu_ps(p, a.v); }
+inline VF operator+(VF a, VF b) { return {_mm256_add_ps(a.v, b.v)}; }
+inline VF operator-(VF a, VF b) { return {_mm256_sub_ps(a.v, b.v)}; }
+inline VF operator*(VF a, VF b) { return {_mm256_mul_ps(a.v, b.v)}; }
+inline VF operator/(VF a, VF b) { return {_mm256_div_ps(a.v, b.v)}; }
+inline VM operator<(VF a, VF b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
+inline VM operator<=(VF a, VF b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)}; }
+inline VM operator>(VF a, VF b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
+inline VM operator==(VF a, VF b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_EQ_OQ)}; }
+inline VM operator!=(VF a, VF b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_NEQ_UQ)}; }
+inline VF vmin(VF a, VF b) { return {_mm256_min_ps(a.v, b.v)}; }
+inline VF vmax(VF a, VF b) { return {_mm256_max_ps(a.v, b.v)}; }
+inline VF vabs(VF a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.0f), a.v)}; }
+inline VM operator&(VM a, VM b) { return {_mm256_and_ps(a.v, b.v)}; }
+inline VM operator|(VM a, VM b) { return {_mm256_or_ps(a.v, b.v)}; }
+inline VM andnot(VM a, VM b) { return {_mm256_andnot_ps(b.v, a.v)}; }
+inline unsigned bits(VM a) { return static_cast<unsigned>(_mm256_movemask_ps(a.v)); }
+inline bool any(VM a) { return bits(a) != 0; }
+inline VM mask_from_bits(unsigned b) {
+    const __m256i lane_bits = _mm256_set_epi32(128, 64, 32, 16, 8, 4, 2, 1);
+    const __m256i selected = _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(b)), lane_bits);
+    return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(selected, lane_bits))};
+}
+inline VF select(VM m, VF a, VF b) { return {_mm256_blendv_ps(b.v, a.v, m.v)}; }

@@ -1,0 +1,31 @@
+// SIMD wrapper, AVX-512 (AVX512F only): 16 lanes. Included inside a kernel's namespace (no
+// include guard, no includes; <immintrin.h> comes first in the .cpp): see packet_view.h.
+constexpr int kLanes = 16;
+struct VF {
+    __m512 v;
+};
+struct VM {
+    __mmask16 m;
+};
+inline VF splat(float x) { return {_mm512_set1_ps(x)}; }
+inline VF load(const float* p) { return {_mm512_loadu_ps(p)}; }
+inline void store(float* p, VF a) { _mm512_storeu_ps(p, a.v); }
+inline VF operator+(VF a, VF b) { return {_mm512_add_ps(a.v, b.v)}; }
+inline VF operator-(VF a, VF b) { return {_mm512_sub_ps(a.v, b.v)}; }
+inline VF operator*(VF a, VF b) { return {_mm512_mul_ps(a.v, b.v)}; }
+inline VF operator/(VF a, VF b) { return {_mm512_div_ps(a.v, b.v)}; }
+inline VM operator<(VF a, VF b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_LT_OQ)}; }
+inline VM operator<=(VF a, VF b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_LE_OQ)}; }
+inline VM operator>(VF a, VF b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_GT_OQ)}; }
+inline VM operator==(VF a, VF b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_EQ_OQ)}; }
+inline VM operator!=(VF a, VF b) { return {_mm512_cmp_ps_mask(a.v, b.v, _CMP_NEQ_UQ)}; }
+inline VF vmin(VF a, VF b) { return {_mm512_min_ps(a.v, b.v)}; }
+inline VF vmax(VF a, VF b) { return {_mm512_max_ps(a.v, b.v)}; }
+inline VF vabs(VF a) { return {_mm512_abs_ps(a.v)}; }
+inline VM operator&(VM a, VM b) { return {static_cast<__mmask16>(a.m & b.m)}; }
+inline VM operator|(VM a, VM b) { return {static_cast<__mmask16>(a.m | b.m)}; }
+inline VM andnot(VM a, VM b) { return {static_cast<__mmask16>(a.m & ~b.m)}; }
+inline unsigned bits(VM a) { return a.m; }
+inline bool any(VM a) { return a.m != 0; }
+inline VM mask_from_bits(unsigned b) { return {static_cast<__mmask16>(b)}; }
+inline VF select(VM m, VF a, VF b) { return {_mm512_mask_blend_ps(m.m, b.v, a.v)}; }

@@ -1,0 +1,35 @@
+// SIMD wrapper, SSE2 (every x86-64 CPU): 4 lanes. Included inside a kernel's namespace (no
+// include guard, no includes; <emmintrin.h> comes first in the .cpp): see packet_view.h.
+constexpr int kLanes = 4;
+struct VF {
+    __m128 v;
+};
+struct VM {
+    __m128 v;  // all ones in a true lane
+};
+inline VF splat(float x) { return {_mm_set1_ps(x)}; }
+inline VF load(const float* p) { return {_mm_loadu_ps(p)}; }
+inline void store(float* p, VF a) { _mm_storeu_ps(p, a.v); }
+inline VF operator+(VF a, VF b) { return {_mm_add_ps(a.v, b.v)}; }
+inline VF operator-(VF a, VF b) { return {_mm_sub_ps(a.v, b.v)}; }
+inline VF operator*(VF a, VF b) { return {_mm_mul_ps(a.v, b.v)}; }
+inline VF operator/(VF a, VF b) { return {_mm_div_ps(a.v, b.v)}; }
+inline VM operator<(VF a, VF b) { return {_mm_cmplt_ps(a.v, b.v)}; }
+inline VM operator<=(VF a, VF b) { return {_mm_cmple_ps(a.v, b.v)}; }
+inline VM operator>(VF a, VF b) { return {_mm_cmpgt_ps(a.v, b.v)}; }
+inline VM operator==(VF a, VF b) { return {_mm_cmpeq_ps(a.v, b.v)}; }
+inline VM operator!=(VF a, VF b) { return {_mm_cmpneq_ps(a.v, b.v)}; }
+inline VF vmin(VF a, VF b) { return {_mm_min_ps(a.v, b.v)}; }
+inline VF vmax(VF a, VF b) { return {_mm_max_ps(a.v, b.v)}; }
+inline VF vabs(VF a) { return {_mm_andnot_ps(_mm_set1_ps(-0.0f), a.v)}; }
+inline VM operator&(VM a, VM b) { return {_mm_and_ps(a.v, b.v)}; }
+inline VM operator|(VM a, VM b) { return {_mm_or_ps(a.v, b.v)}; }
+inline VM andnot(VM a, VM b) { return {_mm_andnot_ps(b.v, a.v)}; }
+inline unsigned bits(VM a) { return static_cast<unsigned>(_mm_movemask_ps(a.v)); }
+inline bool any(VM a) { return bits(a) != 0; }
+inline VM mask_from_bits(unsigned b) {
+    const __m128i lane_bits = _mm_set_epi32(8, 4, 2, 1);
+    const __m128i selected = _mm_and_si128(_mm_set1_epi32(static_cast<int>(b)), lane_bits);
+    return {_mm_castsi128_ps(_mm_cmpeq_epi32(selected, lane_bits))};
+}
+inline VF select(VM m, VF a, VF b) { return {_mm_or_ps(_mm_and_ps(m.v, a.v), _mm_andnot_ps(m.v, b.v))}; }

@@ -1,0 +1,18 @@
+// The packet kernel compiled for sse2 (see packet_kernel.inl; build flags in src/CMakeLists.txt).
+#include <emmintrin.h>
+
+#include "scene/packet_view.h"
+
+namespace raycast {
+namespace packet_sse2 {
+namespace {
+#include "scene/packet_simd_sse2.h"
+#include "scene/packet_kernel.inl"
+}  // namespace
+
+void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) {
+    trace_packet(view, rays, count, t_min, hits);
+}
+
+}  // namespace packet_sse2
+}  // namespace raycast

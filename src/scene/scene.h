@@ -1,0 +1,98 @@
+// The render-ready scene: flat arrays of shapes, each placed by an instance, a BVH over the
+// instances and one per unique mesh (two levels, so a mesh used several times is stored once).
+// The renderer asks it two things: the closest hit (intersect) and any hit (occluded).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh/bvh.h"
+#include "geometry/hit.h"
+#include "geometry/plane.h"
+#include "geometry/sphere.h"
+#include "geometry/triangle_mesh.h"
+#include "math/mat4.h"
+#include "scene/camera.h"
+#include "scene/conventions.h"
+#include "scene/light.h"
+#include "scene/material.h"
+
+namespace raycast {
+
+/// One triangle as the intersection loop reads it: vertices copied in BVH leaf order.
+struct LeafTriangle {
+    Vec3f p0, p1, p2;
+};
+
+/// A unique mesh with its own BVH, in its object space.
+struct MeshShape {
+    TriangleMesh mesh;
+    Bvh bvh;  ///< bvh.prim_order[i] is the mesh triangle stored at leaf_triangles[i]
+    std::vector<LeafTriangle> leaf_triangles;
+    Bounds3f bounds;
+};
+
+struct TriangleShape {
+    Vec3f p0, p1, p2;
+};
+
+enum class ShapeKind : uint8_t { Sphere, Plane, Triangle, Mesh };
+
+constexpr uint32_t kNoTransform = 0xffffffffu;
+
+/// An object of the scene file: a shape, where it is (an optional transform) and its material.
+/// Instances are numbered in file order, and Hit::object is that number.
+struct Instance {
+    ShapeKind kind = ShapeKind::Sphere;
+    uint32_t shape = 0;     ///< index into the array of its kind
+    uint32_t material = 0;  ///< index into Scene::materials
+    uint32_t transform = kNoTransform;  ///< index into Scene::object_from_world
+};
+
+struct Scene {
+    Camera camera;
+    Conventions conventions;
+    Vec3f background{0.5f, 0.5f, 0.5f};
+    Vec3f ambient{0, 0, 0};
+    std::vector<Light> lights;
+    std::vector<Material> materials;
+
+    std::vector<Sphere> spheres;
+    std::vector<Plane> planes;  ///< in world space (transforms are applied to the plane equation)
+    std::vector<TriangleShape> triangles;
+    std::vector<MeshShape> meshes;
+    std::vector<Mat4> object_from_world;  ///< inverse transforms, M⁻¹, of instances that have one
+
+    std::vector<Instance> instances;
+    std::vector<uint32_t> plane_instances;  ///< planes are unbounded: tested outside the BVH
+    Bvh instance_bvh;                       ///< over the bounded instances; prim ids are instance ids
+
+    size_t triangle_count() const;
+};
+
+/// Statistics one thread gathers while tracing (summed over threads at the end).
+struct TraceCounters {
+    uint64_t nodes_visited = 0;
+};
+
+/// The closest hit with t > t_min, if any (hit.is_hit()); ties as is_closer() says.
+void intersect(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceCounters* counters = nullptr);
+
+/// Whether anything lies on the ray with t_min < t < t_max (any hit, for shadow rays).
+bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max);
+
+/// What shading needs to know about a hit.
+struct SurfacePoint {
+    Vec3f position;  ///< world space: ray.origin + t·ray.direction
+    Vec3f normal;    ///< world space, unit; as the geometry defines it (never flipped)
+    uint32_t material = 0;
+};
+
+SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit);
+
+/// The ray in an instance's object space: direction not renormalised, so t is unchanged.
+inline Ray to_object_space(const Mat4& object_from_world, const Ray& ray) {
+    return {transform_point(object_from_world, ray.origin), transform_vector(object_from_world, ray.direction)};
+}
+
+}  // namespace raycast
