@@ -1,0 +1,590 @@
+#include "sceneio/load_obj.h"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <climits>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+#include "base/check.h"
+#include "base/error.h"
+#include "base/limits.h"
+#include "base/parallel.h"
+#include "base/parse_number.h"
+
+namespace raycast {
+
+namespace {
+
+// Mesh arrays are indexed by uint32_t, and kNoNormal takes the last value of the type.
+constexpr uint64_t kMaxElements = 0xffffffffu;
+// Chunks small enough to balance the threads, large enough that the per-chunk work is noise.
+constexpr size_t kMinChunkBytes = size_t{256} << 10;
+constexpr size_t kChunksPerThread = 4;
+constexpr size_t kMaxTokenShown = 40;
+
+// Byte classes, looked up in one table because the scanning loops test every byte of the file.
+// '\r' is a blank, so CRLF files need no special case; a statement ends at '\n' or at a '#' comment.
+constexpr uint8_t kBlank = 1;
+constexpr uint8_t kStatementEnd = 2;
+constexpr uint8_t kSlash = 4;
+
+constexpr std::array<uint8_t, 256> make_byte_classes() {
+    std::array<uint8_t, 256> classes{};
+    for (unsigned char c : {' ', '\t', '\r', '\v', '\f'}) classes[c] = kBlank;
+    classes['\n'] = kStatementEnd;
+    classes['#'] = kStatementEnd;
+    classes['/'] = kSlash;
+    return classes;
+}
+constexpr std::array<uint8_t, 256> kByteClasses = make_byte_classes();
+
+inline uint8_t byte_class(char c) { return kByteClasses[static_cast<unsigned char>(c)]; }
+inline bool is_blank(char c) { return byte_class(c) == kBlank; }
+inline bool ends_statement(const char* p, const char* end) { return p == end || byte_class(*p) == kStatementEnd; }
+inline bool ends_token(const char* p, const char* end) {
+    return p == end || (byte_class(*p) & (kBlank | kStatementEnd)) != 0;
+}
+
+inline const char* skip_blanks(const char* p, const char* end) {
+    while (p != end && is_blank(*p)) ++p;
+    return p;
+}
+
+inline const char* skip_token(const char* p, const char* end) {
+    while (!ends_token(p, end)) ++p;
+    return p;
+}
+
+// One past the next '\n' at or after p, or end.
+inline const char* next_line(const char* p, const char* end) {
+    if (p == end) return end;
+    if (*p == '\n') return p + 1;  // where a parsed statement usually stops
+    const void* newline = std::memchr(p, '\n', static_cast<size_t>(end - p));
+    return newline ? static_cast<const char*>(newline) + 1 : end;
+}
+
+// Some Windows tools start UTF-8 files with a byte order mark; it is not part of the first statement.
+inline const char* skip_byte_order_mark(const char* p, const char* end) {
+    return end - p >= 3 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0 ? p + 3 : p;
+}
+
+enum class Statement { Vertex, Normal, TexCoord, Face, Other };
+
+// Classifies the statement whose keyword starts at p and moves p past the keyword, unless the
+// statement is one the loader ignores (o, g, s, usemtl, mtllib, l, p, vp, ...).
+inline Statement read_keyword(const char*& p, const char* end) {
+    if (p == end) return Statement::Other;
+    if (*p == 'v') {
+        if (ends_token(p + 1, end)) {
+            p += 1;
+            return Statement::Vertex;
+        }
+        if ((p[1] == 'n' || p[1] == 't') && ends_token(p + 2, end)) {
+            const Statement statement = p[1] == 'n' ? Statement::Normal : Statement::TexCoord;
+            p += 2;
+            return statement;
+        }
+    } else if (*p == 'f' && ends_token(p + 1, end)) {
+        p += 1;
+        return Statement::Face;
+    }
+    return Statement::Other;
+}
+
+// The token as the user wrote it, for a message: control bytes escaped, at most kMaxTokenShown
+// bytes (cut on a UTF-8 character boundary) and "..." when it is longer.
+std::string shorten_token(const char* first, const char* last) {
+    size_t shown = static_cast<size_t>(last - first);
+    const bool cut = shown > kMaxTokenShown;
+    if (cut) {
+        shown = kMaxTokenShown;
+        while (shown > 0 && (static_cast<unsigned char>(first[shown]) & 0xC0) == 0x80) --shown;
+    }
+    std::string out;
+    for (size_t i = 0; i < shown; ++i) {
+        const unsigned char c = static_cast<unsigned char>(first[i]);
+        if (c < 0x20 || c == 0x7f)
+            out += string_printf("\\x%02x", c);
+        else
+            out += static_cast<char>(c);
+    }
+    if (cut) out += "...";
+    return out;
+}
+
+std::string quote_token(const char* first, const char* last) { return "'" + shorten_token(first, last) + "'"; }
+
+// Asks for transparent huge pages on a large array about to be written for the first time. Fresh
+// pages dominated the load time without it: a 1M-triangle OBJ touches ~14k 4 KiB pages, and a page
+// fault costs ~10 us in the virtual machines we run on (2 MiB pages also spare the TLB on bare metal).
+// Only advice: where the kernel has no THP, nothing changes.
+void advise_huge_pages(const void* data, size_t bytes) {
+#ifdef MADV_HUGEPAGE
+    constexpr uintptr_t kPage = 4096;
+    const uintptr_t first = (reinterpret_cast<uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
+    const uintptr_t last = (reinterpret_cast<uintptr_t>(data) + bytes) & ~(kPage - 1);
+    if (bytes >= (size_t{2} << 20) && last > first)
+        ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#else
+    (void)data;
+    (void)bytes;
+#endif
+}
+
+// Sizes a mesh array that the parser is about to fill, asking for huge pages before the first touch.
+template <typename T>
+void size_for_writing(std::vector<T>& array, uint64_t size) {
+    array.reserve(size);
+    advise_huge_pages(array.data(), size * sizeof(T));
+    array.resize(size);
+}
+
+int saturate_to_int(uint64_t value) { return value > uint64_t{INT_MAX} ? INT_MAX : static_cast<int>(value); }
+
+// A piece of the text that starts at a line start and ends after a '\n' (or at the end of the
+// text). Chunks are counted, then parsed, each on its own; the counts give every chunk the global
+// line number and element numbers it starts at, so no result depends on where the cuts fall.
+struct Chunk {
+    const char* begin = nullptr;
+    const char* end = nullptr;
+
+    // Filled by count_chunk.
+    uint64_t newlines = 0;
+    uint64_t vertices = 0;
+    uint64_t normals = 0;
+    uint64_t texcoords = 0;
+    uint64_t triangles = 0;
+    bool uses_normals = false;
+
+    // The totals of all chunks before this one.
+    uint64_t first_line = 1;
+    uint64_t vertex_base = 0;
+    uint64_t normal_base = 0;
+    uint64_t texcoord_base = 0;
+    uint64_t triangle_base = 0;
+
+    std::vector<Diagnostic> errors;
+};
+
+std::vector<Chunk> split_into_chunks(std::string_view text, int threads, size_t chunk_bytes) {
+    size_t target = chunk_bytes;
+    if (target == 0) {
+        const size_t per_chunk = text.size() / (static_cast<size_t>(threads) * kChunksPerThread);
+        target = threads == 1 ? text.size() : std::max(kMinChunkBytes, per_chunk);
+    }
+    target = std::max<size_t>(target, 1);
+    std::vector<Chunk> chunks;
+    const char* p = text.data();
+    const char* end = p + text.size();
+    while (p != end) {
+        const char* cut = static_cast<size_t>(end - p) > target ? next_line(p + target - 1, end) : end;
+        Chunk chunk;
+        chunk.begin = p;
+        chunk.end = cut;
+        chunks.push_back(std::move(chunk));
+        p = cut;
+    }
+    return chunks;
+}
+
+// The first pass: how many elements and triangles the chunk adds, so that the second pass can
+// write straight into exactly sized arrays. It must classify lines exactly as ChunkParser does.
+void count_chunk(Chunk& chunk, const char* text_begin) {
+    const char* p = chunk.begin;
+    const char* end = chunk.end;
+    while (p != end) {
+        if (p == text_begin) p = skip_byte_order_mark(p, end);
+        p = skip_blanks(p, end);
+        switch (read_keyword(p, end)) {
+        case Statement::Vertex: ++chunk.vertices; break;
+        case Statement::Normal: ++chunk.normals; break;
+        case Statement::TexCoord: ++chunk.texcoords; break;
+        case Statement::Face: {
+            uint64_t corners = 0;
+            for (;;) {
+                p = skip_blanks(p, end);
+                if (ends_statement(p, end)) break;
+                unsigned slashes = 0;
+                for (; p != end; ++p) {
+                    const uint8_t c = byte_class(*p);
+                    if (c & (kBlank | kStatementEnd)) break;
+                    slashes += c / kSlash;
+                }
+                // Only a corner with a normal has a second slash (a//c, a/b/c).
+                if (slashes >= 2) chunk.uses_normals = true;
+                ++corners;
+            }
+            if (corners >= 3) chunk.triangles += corners - 2;
+            break;
+        }
+        case Statement::Other: break;
+        }
+        p = next_line(p, end);
+        if (p[-1] == '\n') ++chunk.newlines;
+    }
+}
+
+// Where the second pass writes; null arrays are not written (the counts exceed the limits, so
+// the pass runs for its diagnostics only).
+struct MeshOutput {
+    Vec3f* positions = nullptr;
+    Vec3f* normals = nullptr;
+    uint32_t* indices = nullptr;
+    uint32_t* normal_indices = nullptr;
+    uint64_t vertex_total = 0;
+    uint64_t normal_total = 0;
+    uint64_t texcoord_total = 0;
+};
+
+enum class IndexKind { Vertex, TexCoord, Normal };
+
+// The second pass over one chunk: parses every statement, writes its elements at their global
+// positions and records up to kMaxReportedErrors located diagnostics.
+class ChunkParser {
+public:
+    ChunkParser(Chunk& chunk, const MeshOutput& out, const char* text_begin, const std::string& file_name)
+        : chunk_(chunk), out_(out), text_begin_(text_begin), end_(chunk.end), file_name_(file_name),
+          line_(chunk.first_line), vertex_(chunk.vertex_base), normal_(chunk.normal_base),
+          texcoord_(chunk.texcoord_base), triangle_(chunk.triangle_base) {}
+
+    void run() {
+        const char* p = chunk_.begin;
+        while (p != end_) {
+            line_start_ = p;
+            if (p == text_begin_) p = skip_byte_order_mark(p, end_);
+            p = skip_blanks(p, end_);
+            const char* keyword = p;
+            switch (read_keyword(p, end_)) {
+            case Statement::Vertex: parse_vertex(keyword, p); break;
+            case Statement::Normal: parse_normal(keyword, p); break;
+            case Statement::TexCoord: parse_texcoord(keyword, p); break;
+            case Statement::Face: parse_face(keyword, p); break;
+            case Statement::Other: break;
+            }
+            // Finish the whole line before stopping, so that errors sorted by column within it
+            // are complete.
+            if (chunk_.errors.size() >= static_cast<size_t>(kMaxReportedErrors)) return;
+            p = next_line(p, end_);
+            ++line_;
+        }
+        RAYCAST_CHECK(vertex_ == chunk_.vertex_base + chunk_.vertices);
+        RAYCAST_CHECK(triangle_ == chunk_.triangle_base + chunk_.triangles);
+    }
+
+private:
+    struct Corner {
+        uint32_t vertex = 0;
+        uint32_t normal = kNoNormal;
+    };
+
+    // Out of line and cold: errors are rare, and the hot loops stay small without them.
+    [[gnu::noinline, gnu::cold]] void error(const char* at, std::string message) {
+        const char* line_end = next_line(line_start_, end_);
+        while (line_end != line_start_ && (line_end[-1] == '\n' || line_end[-1] == '\r')) --line_end;
+        Diagnostic diagnostic;
+        const uint64_t column = static_cast<uint64_t>(at - line_start_) + 1;
+        diagnostic.location = {file_name_, saturate_to_int(line_), saturate_to_int(column)};
+        diagnostic.message = std::move(message);
+        diagnostic.source_line.assign(line_start_, line_end);
+        chunk_.errors.push_back(std::move(diagnostic));
+    }
+
+    // Reads the numbers up to the end of the statement, keeps the first three in `values` and
+    // reports those that are not numbers. Returns how many there were, counting at most 3.
+    int read_numbers(const char*& p, float (&values)[3]) {
+        int count = 0;
+        for (;;) {
+            p = skip_blanks(p, end_);
+            if (ends_statement(p, end_)) return count;
+            float value = 0;
+            const NumberResult result = parse_float(p, end_, value);
+            if (result.status == NumberStatus::Invalid || !ends_token(result.end, end_)) {
+                const char* token_end = skip_token(p, end_);
+                error(p, quote_token(p, token_end) + " is not a number");
+                p = token_end;
+            } else {
+                if (result.status == NumberStatus::OutOfRange)
+                    error(p, "number " + quote_token(p, result.end) + " is out of range");
+                else if (count < 3)
+                    values[count] = value;
+                p = result.end;
+            }
+            if (count < 3) ++count;
+        }
+    }
+
+    void parse_vertex(const char* keyword, const char*& p) {
+        float xyz[3] = {0, 0, 0};
+        if (read_numbers(p, xyz) < 3) error(keyword, "a vertex needs 3 coordinates (x y z)");
+        if (vertex_ == kMaxElements) error(keyword, "too many vertices for one mesh (the limit is 4294967295)");
+        if (out_.positions) out_.positions[vertex_] = Vec3f(xyz[0], xyz[1], xyz[2]);
+        ++vertex_;
+    }
+
+    void parse_normal(const char* keyword, const char*& p) {
+        float xyz[3] = {0, 0, 0};
+        if (read_numbers(p, xyz) < 3) error(keyword, "a normal needs 3 coordinates (x y z)");
+        if (normal_ == kMaxElements) error(keyword, "too many normals for one mesh (the limit is 4294967295)");
+        if (out_.normals) out_.normals[normal_] = Vec3f(xyz[0], xyz[1], xyz[2]);
+        ++normal_;
+    }
+
+    // Texture coordinates are checked and counted (faces refer to them) but not kept.
+    void parse_texcoord(const char* keyword, const char*& p) {
+        float uvw[3] = {0, 0, 0};
+        if (read_numbers(p, uvw) < 1) error(keyword, "a texture coordinate needs at least 1 number");
+        ++texcoord_;
+    }
+
+    // Triangulates the polygon as a fan (v0, vi, vi+1), which keeps its winding, while reading it:
+    // no corner list, so a face of any size needs no allocation.
+    void parse_face(const char* keyword, const char*& p) {
+        uint64_t corners = 0;
+        Corner first;
+        Corner previous;
+        for (;;) {
+            p = skip_blanks(p, end_);
+            if (ends_statement(p, end_)) break;
+            const Corner corner = read_corner(p);
+            if (corners == 0) first = corner;
+            if (corners >= 2) add_triangle(keyword, first, previous, corner);
+            previous = corner;
+            ++corners;
+        }
+        if (corners < 3)
+            error(keyword, string_printf("a face needs at least 3 vertices, this one has %llu",
+                                         static_cast<unsigned long long>(corners)));
+    }
+
+    void add_triangle(const char* keyword, Corner a, Corner b, Corner c) {
+        if (triangle_ == kMaxElements) error(keyword, "too many triangles for one mesh (the limit is 4294967295)");
+        if (out_.indices) {
+            uint32_t* indices = out_.indices + 3 * triangle_;
+            indices[0] = a.vertex;
+            indices[1] = b.vertex;
+            indices[2] = c.vertex;
+            if (out_.normal_indices) {
+                uint32_t* normal_indices = out_.normal_indices + 3 * triangle_;
+                normal_indices[0] = a.normal;
+                normal_indices[1] = b.normal;
+                normal_indices[2] = c.normal;
+            }
+        }
+        ++triangle_;
+    }
+
+    // One index of a face corner, as read.
+    struct IndexPart {
+        const char* first = nullptr;  // null when the corner has no such part
+        const char* last = nullptr;
+        int64_t value = 0;
+        NumberStatus status = NumberStatus::Invalid;
+    };
+
+    bool read_index_part(const char*& p, IndexPart& part) {
+        const NumberResult result = parse_int(p, end_, part.value);
+        if (result.status == NumberStatus::Invalid) return false;
+        part.first = p;
+        part.last = result.end;
+        part.status = result.status;
+        p = result.end;
+        return true;
+    }
+
+    // Reads one face corner: v, v/t, v//n or v/t/n. A malformed corner is reported whole; a
+    // well-formed one has each of its indices checked.
+    Corner read_corner(const char*& p) {
+        const char* token = p;
+        IndexPart vertex;
+        IndexPart texcoord;
+        IndexPart normal;
+        bool well_formed = read_index_part(p, vertex);
+        if (well_formed && p != end_ && *p == '/') {
+            ++p;
+            const bool has_texcoord = p != end_ && *p != '/';
+            if (has_texcoord) well_formed = read_index_part(p, texcoord);
+            if (well_formed && p != end_ && *p == '/') {
+                ++p;
+                well_formed = read_index_part(p, normal);
+            } else if (!has_texcoord) {
+                well_formed = false;  // "a/" names neither a texture coordinate nor a normal
+            }
+        }
+        if (!well_formed || !ends_token(p, end_)) {
+            const char* token_end = skip_token(token, end_);
+            error(token, "malformed face vertex " + quote_token(token, token_end));
+            p = token_end;
+            return Corner{};
+        }
+        Corner corner;
+        corner.vertex = resolve(vertex, IndexKind::Vertex, out_.vertex_total, vertex_);
+        if (texcoord.first) resolve(texcoord, IndexKind::TexCoord, out_.texcoord_total, texcoord_);
+        if (normal.first) corner.normal = resolve(normal, IndexKind::Normal, out_.normal_total, normal_);
+        return corner;
+    }
+
+    // Turns a 1-based or negative (relative) index into a 0-based one. Positive indices may
+    // refer forward, to any element in the file (`total`); negative ones count back from this
+    // line, before which `before` elements are defined.
+    uint32_t resolve(const IndexPart& part, IndexKind kind, uint64_t total, uint64_t before) {
+        if (part.status == NumberStatus::Ok) {
+            if (part.value > 0 && static_cast<uint64_t>(part.value) <= total)
+                return static_cast<uint32_t>(part.value - 1);
+            if (part.value < 0 && static_cast<uint64_t>(-part.value) <= before)
+                return static_cast<uint32_t>(before - static_cast<uint64_t>(-part.value));
+            if (part.value == 0) {
+                error(part.first, "index 0 is invalid: OBJ indices start at 1");
+                return 0;
+            }
+        }
+        report_index_out_of_range(part, kind, total, before);
+        return 0;
+    }
+
+    [[gnu::noinline, gnu::cold]] void report_index_out_of_range(const IndexPart& part, IndexKind kind, uint64_t total,
+                                                                uint64_t before) {
+        const char* singular = kind == IndexKind::Vertex   ? "vertex"
+                               : kind == IndexKind::Normal ? "normal"
+                                                           : "texture coordinate";
+        const char* plural = kind == IndexKind::Vertex    ? "vertices"
+                             : kind == IndexKind::Normal ? "normals"
+                                                         : "texture coordinates";
+        // An index too large for parse_int is shown as written; its sign still tells the direction.
+        const std::string shown = part.status == NumberStatus::Ok
+                                      ? string_printf("%lld", static_cast<long long>(part.value))
+                                      : shorten_token(part.first, part.last);
+        std::string message = std::string(singular) + " index " + shown + " is out of range: ";
+        if (*part.first == '-') {
+            message += string_printf("%llu %s %s defined before this line", static_cast<unsigned long long>(before),
+                                     before == 1 ? singular : plural, before == 1 ? "is" : "are");
+        } else {
+            message += string_printf("the file has %llu %s", static_cast<unsigned long long>(total),
+                                     total == 1 ? singular : plural);
+        }
+        error(part.first, std::move(message));
+    }
+
+    Chunk& chunk_;
+    const MeshOutput& out_;
+    const char* text_begin_;
+    const char* end_;
+    const std::string& file_name_;
+    const char* line_start_ = nullptr;
+    uint64_t line_;
+    uint64_t vertex_;  // elements defined before the current line, in the whole file
+    uint64_t normal_;
+    uint64_t texcoord_;
+    uint64_t triangle_;
+};
+
+}  // namespace
+
+TriangleMesh parse_obj(std::string_view text, const std::string& file_name, const ObjLoadOptions& options) {
+    const int threads = std::max(1, options.threads);
+    std::vector<Chunk> chunks = split_into_chunks(text, threads, options.chunk_bytes);
+    const char* text_begin = text.data();
+    parallel_for(chunks.size(), threads, [&](size_t item, int) { count_chunk(chunks[item], text_begin); });
+
+    uint64_t line = 1;
+    uint64_t vertices = 0;
+    uint64_t normals = 0;
+    uint64_t texcoords = 0;
+    uint64_t triangles = 0;
+    bool uses_normals = false;
+    for (Chunk& chunk : chunks) {
+        chunk.first_line = line;
+        chunk.vertex_base = vertices;
+        chunk.normal_base = normals;
+        chunk.texcoord_base = texcoords;
+        chunk.triangle_base = triangles;
+        line += chunk.newlines;
+        vertices += chunk.vertices;
+        normals += chunk.normals;
+        texcoords += chunk.texcoords;
+        triangles += chunk.triangles;
+        uses_normals |= chunk.uses_normals;
+    }
+
+    // Exactly sized once, written in place by every chunk: no growth, no copies, no slack.
+    TriangleMesh mesh;
+    MeshOutput out;
+    out.vertex_total = vertices;
+    out.normal_total = normals;
+    out.texcoord_total = texcoords;
+    const bool fits = vertices <= kMaxElements && normals <= kMaxElements && triangles <= kMaxElements;
+    if (fits) {
+        size_for_writing(mesh.positions, vertices);
+        size_for_writing(mesh.normals, normals);
+        size_for_writing(mesh.indices, 3 * triangles);
+        if (uses_normals) size_for_writing(mesh.normal_indices, 3 * triangles);
+        out.positions = mesh.positions.data();
+        out.normals = mesh.normals.data();
+        out.indices = mesh.indices.data();
+        out.normal_indices = uses_normals ? mesh.normal_indices.data() : nullptr;
+    }
+    parallel_for(chunks.size(), threads, [&](size_t item, int) {
+        ChunkParser(chunks[item], out, text_begin, file_name).run();
+    });
+
+    std::vector<Diagnostic> errors;
+    for (Chunk& chunk : chunks) {
+        for (Diagnostic& diagnostic : chunk.errors) errors.push_back(std::move(diagnostic));
+        if (errors.size() >= static_cast<size_t>(kMaxReportedErrors)) break;
+    }
+    // Within a line, a count error at the keyword is found after the token errors that follow it.
+    std::stable_sort(errors.begin(), errors.end(), [](const Diagnostic& a, const Diagnostic& b) {
+        return a.location.line != b.location.line ? a.location.line < b.location.line
+                                                  : a.location.column < b.location.column;
+    });
+    if (errors.size() > static_cast<size_t>(kMaxReportedErrors)) errors.resize(static_cast<size_t>(kMaxReportedErrors));
+    RAYCAST_CHECK(fits || !errors.empty());
+    if (!errors.empty()) throw InputError(std::move(errors));
+    return mesh;
+}
+
+TriangleMesh load_obj_file(const std::string& path, const ObjLoadOptions& options) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw InputError(path, std::string("cannot open OBJ file: ") + std::strerror(errno));
+    struct FileCloser {
+        int fd;
+        ~FileCloser() { ::close(fd); }
+    } closer{fd};
+    struct stat info;
+    if (::fstat(fd, &info) != 0) throw InputError(path, std::string("cannot open OBJ file: ") + std::strerror(errno));
+    if (S_ISDIR(info.st_mode)) throw InputError(path, "cannot open OBJ file: it is a directory");
+
+    // One read into one buffer sized from the file; the +1 finds the end without a second
+    // allocation. Pipes and files that grow while read make the buffer grow.
+    size_t capacity = S_ISREG(info.st_mode) ? static_cast<size_t>(info.st_size) + 1 : size_t{1} << 16;
+    std::unique_ptr<char[]> buffer(new char[capacity]);
+    advise_huge_pages(buffer.get(), capacity);
+    size_t size = 0;
+    for (;;) {
+        if (size == capacity) {
+            std::unique_ptr<char[]> bigger(new char[2 * capacity]);
+            advise_huge_pages(bigger.get(), 2 * capacity);
+            std::memcpy(bigger.get(), buffer.get(), size);
+            buffer = std::move(bigger);
+            capacity *= 2;
+        }
+        const ssize_t got = ::read(fd, buffer.get() + size, capacity - size);
+        if (got < 0) {
+            if (errno == EINTR) continue;
+            throw InputError(path, std::string("cannot read OBJ file: ") + std::strerror(errno));
+        }
+        if (got == 0) break;
+        size += static_cast<size_t>(got);
+    }
+    return parse_obj(std::string_view(buffer.get(), size), path, options);
+}
+
+}  // namespace raycast

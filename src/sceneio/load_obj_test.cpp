@@ -1,0 +1,577 @@
+#include "sceneio/load_obj.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "base/error.h"
+
+namespace raycast {
+namespace {
+
+constexpr uint32_t N = kNoNormal;
+
+TriangleMesh parse(std::string_view text, int threads = 1, size_t chunk_bytes = 0) {
+    ObjLoadOptions options;
+    options.threads = threads;
+    options.chunk_bytes = chunk_bytes;
+    return parse_obj(text, "m.obj", options);
+}
+
+// The diagnostics parse_obj throws; an empty list (and a test failure) when it does not throw.
+std::vector<Diagnostic> errors_of(std::string_view text, int threads = 1, size_t chunk_bytes = 0) {
+    try {
+        parse(text, threads, chunk_bytes);
+    } catch (const InputError& error) {
+        return error.diagnostics();
+    }
+    ADD_FAILURE() << "no error for:\n" << text;
+    return {};
+}
+
+std::string located(const Diagnostic& d) {
+    return d.location.file + ":" + std::to_string(d.location.line) + ":" + std::to_string(d.location.column) + ": " +
+           d.message;
+}
+
+// "file:line:col: message" for every diagnostic, one a line.
+std::string all_located(const std::vector<Diagnostic>& diagnostics) {
+    std::string text;
+    for (const Diagnostic& d : diagnostics) text += located(d) + "\n";
+    return text;
+}
+
+// The only error for `text`, as "file:line:col: message".
+std::string only_error(std::string_view text) {
+    const std::vector<Diagnostic> errors = errors_of(text);
+    EXPECT_EQ(errors.size(), 1u) << all_located(errors);
+    return errors.empty() ? std::string() : located(errors[0]);
+}
+
+std::string describe_difference(const TriangleMesh& a, const TriangleMesh& b) {
+    if (a.positions.size() != b.positions.size()) return "positions differ in size";
+    for (size_t i = 0; i < a.positions.size(); ++i)
+        if (a.positions[i] != b.positions[i]) return "position " + std::to_string(i) + " differs";
+    if (a.normals.size() != b.normals.size()) return "normals differ in size";
+    for (size_t i = 0; i < a.normals.size(); ++i)
+        if (a.normals[i] != b.normals[i]) return "normal " + std::to_string(i) + " differs";
+    if (a.indices != b.indices) return "indices differ";
+    if (a.normal_indices != b.normal_indices) return "normal_indices differ";
+    return "";
+}
+
+// ---- accepted input -------------------------------------------------------------------------
+
+TEST(LoadObj, ReadsVerticesAndATriangle) {
+    const TriangleMesh mesh = parse("v 0 0 0\nv 1.5 -2 0.25\nv 0 1 3e2\nf 1 2 3\n");
+    ASSERT_EQ(mesh.positions.size(), 3u);
+    EXPECT_EQ(mesh.positions[0], Vec3f(0, 0, 0));
+    EXPECT_EQ(mesh.positions[1], Vec3f(1.5f, -2, 0.25f));
+    EXPECT_EQ(mesh.positions[2], Vec3f(0, 1, 300));
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_TRUE(mesh.normals.empty());
+    EXPECT_TRUE(mesh.normal_indices.empty());
+    EXPECT_FALSE(mesh.has_normals());
+}
+
+TEST(LoadObj, AcceptsEveryCornerForm) {
+    const std::string head =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nvn 0 1 0\nvn 1 0 0\n";
+    EXPECT_EQ(parse(head + "f 4 2 3\n").indices, (std::vector<uint32_t>{3, 1, 2}));
+    EXPECT_EQ(parse(head + "f 4/1 2/3 3/2\n").indices, (std::vector<uint32_t>{3, 1, 2}));
+    const TriangleMesh vn = parse(head + "f 4//3 2//1 3//2\n");
+    EXPECT_EQ(vn.indices, (std::vector<uint32_t>{3, 1, 2}));
+    EXPECT_EQ(vn.normal_indices, (std::vector<uint32_t>{2, 0, 1}));
+    const TriangleMesh vtn = parse(head + "f 4/3/2 2/2/3 3/1/1\n");
+    EXPECT_EQ(vtn.indices, (std::vector<uint32_t>{3, 1, 2}));
+    EXPECT_EQ(vtn.normal_indices, (std::vector<uint32_t>{1, 2, 0}));
+    // A '+' sign is an ordinary integer.
+    EXPECT_EQ(parse(head + "f +1 +2 +3\n").indices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST(LoadObj, NegativeIndicesCountBackFromTheLine) {
+    const TriangleMesh mesh = parse(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+        "f -3 -2 -1\n"  // the three vertices so far: 0 1 2
+        "v 5 5 5\n"
+        "f -1 -4 -2\n"  // now 4 vertices: -1 is vertex 3
+        "vn 0 0 1\nvn 0 1 0\n"
+        "f -4//-1 -3//-2 -2//-1\n"
+        "vt 0 0\n"
+        "f 1/-1/2 2/-1/-1 3/1/1\n");
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 3, 0, 2, 0, 1, 2, 0, 1, 2}));
+    EXPECT_EQ(mesh.normal_indices, (std::vector<uint32_t>{N, N, N, N, N, N, 1, 0, 1, 1, 1, 0}));
+}
+
+TEST(LoadObj, PositiveIndicesMayReferForward) {
+    const TriangleMesh mesh = parse("f 1 2 3\nf 3//1 2//1 1//1\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n");
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 2, 1, 0}));
+    EXPECT_EQ(mesh.normal_indices, (std::vector<uint32_t>{N, N, N, 0, 0, 0}));
+}
+
+TEST(LoadObj, PolygonsBecomeFansThatKeepTheWinding) {
+    const std::string head = "v 0 0 0\nv 1 0 0\nv 2 1 0\nv 1 2 0\nv 0 1 0\n";
+    EXPECT_EQ(parse(head + "f 1 2 3 4\n").indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+    EXPECT_EQ(parse(head + "f 5 4 3 2 1\n").indices, (std::vector<uint32_t>{4, 3, 2, 4, 2, 1, 4, 1, 0}));
+    const TriangleMesh pentagon = parse(head + "vn 0 0 1\nvn 0 0 2\nf 1//1 2//2 3//1 4//2 5//1\n");
+    EXPECT_EQ(pentagon.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 0, 3, 4}));
+    EXPECT_EQ(pentagon.normal_indices, (std::vector<uint32_t>{0, 1, 0, 0, 0, 1, 0, 1, 0}));
+}
+
+TEST(LoadObj, AcceptsCommentsBlankLinesTabsAndCrlf) {
+    const TriangleMesh mesh = parse(
+        "# a comment\r\n"
+        "\r\n"
+        "   \t\n"
+        "\tv\t1 2 3   # trailing comment\r\n"
+        "  v 4 5 6#comment right after a number\n"
+        "v 7 8 9 \t \r\n"
+        "#f 9 9 9\n"
+        "f 1 2 3# comment\r\n"
+        "  f\t3 2 1  \r\n");
+    ASSERT_EQ(mesh.positions.size(), 3u);
+    EXPECT_EQ(mesh.positions[0], Vec3f(1, 2, 3));
+    EXPECT_EQ(mesh.positions[1], Vec3f(4, 5, 6));
+    EXPECT_EQ(mesh.positions[2], Vec3f(7, 8, 9));
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 2, 1, 0}));
+}
+
+TEST(LoadObj, KeepsALastLineWithoutNewline) {
+    EXPECT_EQ(parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3").indices, (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_EQ(parse("v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0").positions.back(), Vec3f(0, 1, 0));
+    EXPECT_EQ(parse("v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2 3\r").indices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST(LoadObj, IgnoresNumbersAfterZAndOtherStatements) {
+    const TriangleMesh mesh = parse(
+        "mtllib scene.mtl\no thing\ng group\ns 1\nusemtl red\n"
+        "v 1 2 3 1.0\n"           // w
+        "v 4 5 6 0.5 0.25 1\n"    // vertex colour
+        "v 7 8 9\n"
+        "vp 0.5 0.5\n"            // not a vertex
+        "vertex 1 2 3\n"          // an unknown keyword that starts like one
+        "l 1 2\np 3\ncurv 0 1 1 2\nfo 1 2 3\nfoo\n"
+        "f 1 2 3\n");
+    ASSERT_EQ(mesh.positions.size(), 3u);
+    EXPECT_EQ(mesh.positions[0], Vec3f(1, 2, 3));
+    EXPECT_EQ(mesh.positions[1], Vec3f(4, 5, 6));
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST(LoadObj, ChecksTextureCoordinatesButDoesNotKeepThem) {
+    const TriangleMesh mesh = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5\nvt 0.5 0.25\nvt 0.5 0.25 1\nf 1/3 2/2 3/1\n");
+    EXPECT_EQ(mesh.positions.size(), 3u);
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_TRUE(mesh.normal_indices.empty());
+    EXPECT_EQ(only_error("v 0 0 0\nvt 0 0\nvt 1 1\nf 1/1 1/2 1/3\n"),
+              "m.obj:4:13: texture coordinate index 3 is out of range: the file has 2 texture coordinates");
+}
+
+TEST(LoadObj, KeepsNormalsAndNormalIndices) {
+    const TriangleMesh mesh = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0.5 -0.5 0.25\nf 1//2 2//1 3//2\n");
+    ASSERT_EQ(mesh.normals.size(), 2u);
+    EXPECT_EQ(mesh.normals[0], Vec3f(0, 0, 1));
+    EXPECT_EQ(mesh.normals[1], Vec3f(0.5f, -0.5f, 0.25f));
+    EXPECT_EQ(mesh.normal_indices, (std::vector<uint32_t>{1, 0, 1}));
+    EXPECT_TRUE(mesh.has_normals());
+}
+
+TEST(LoadObj, FacesWithoutNormalsGetNoNormalBesideFacesWithThem) {
+    const TriangleMesh mesh = parse(
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 1\n"
+        "f 1 2 3\n"
+        "f 2//1 4//1 3//1\n"
+        "f 1/1 2/1 3/1 4/1\n"  // needs vt 1
+        "vt 0 0\n"
+        "f 1//1 2 3/1/1\n");   // corners mix forms: each is taken on its own
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2, 0, 1, 2, 0, 2, 3, 0, 1, 2}));
+    EXPECT_EQ(mesh.normal_indices, (std::vector<uint32_t>{N, N, N, 0, 0, 0, N, N, N, N, N, N, 0, N, 0}));
+}
+
+TEST(LoadObj, NormalsThatNoFaceUsesLeaveNormalIndicesEmpty) {
+    const TriangleMesh mesh = parse("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\nf 1/1 2/1 3/1\n");
+    EXPECT_EQ(mesh.normals.size(), 1u);
+    EXPECT_TRUE(mesh.normal_indices.empty());
+}
+
+TEST(LoadObj, KeepsPositionsNoFaceUses) {
+    const TriangleMesh mesh = parse("v 9 9 9\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 8 8 8\nf 2 3 4\n");
+    ASSERT_EQ(mesh.positions.size(), 5u);
+    EXPECT_EQ(mesh.positions[4], Vec3f(8, 8, 8));
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{1, 2, 3}));
+}
+
+TEST(LoadObj, EmptyOrCommentOnlyTextGivesAnEmptyMesh) {
+    for (std::string_view text : {"", "\n", "# nothing\n", "o empty"}) {
+        const TriangleMesh mesh = parse(text);
+        EXPECT_TRUE(mesh.positions.empty());
+        EXPECT_TRUE(mesh.indices.empty());
+    }
+}
+
+TEST(LoadObj, SkipsAUtf8ByteOrderMark) {
+    const TriangleMesh mesh = parse("\xEF\xBB\xBFv 1 2 3\nv 0 0 0\nv 0 1 0\nf 1 2 3\n");
+    ASSERT_EQ(mesh.positions.size(), 3u);
+    EXPECT_EQ(mesh.positions[0], Vec3f(1, 2, 3));
+    // Columns still count the mark's three bytes.
+    EXPECT_EQ(only_error("\xEF\xBB\xBFv 1 2 x\n"), "m.obj:1:10: 'x' is not a number");
+}
+
+// ---- errors: every message, at file:line:col --------------------------------------------------
+
+TEST(LoadObjErrors, NotANumber) {
+    EXPECT_EQ(only_error("v 0 0 0\nv 1 abc 3\n"), "m.obj:2:5: 'abc' is not a number");
+    EXPECT_EQ(only_error("vn 1 2 3x\n"), "m.obj:1:8: '3x' is not a number");
+    EXPECT_EQ(only_error("vt nan\n"), "m.obj:1:4: 'nan' is not a number");
+    EXPECT_EQ(only_error("v 1 2 3 inf\n"), "m.obj:1:9: 'inf' is not a number");  // ignored numbers still count
+    EXPECT_EQ(only_error("v 1 2 1e\n"), "m.obj:1:7: '1e' is not a number");
+    EXPECT_EQ(only_error("v 1,5 2 3\n"), "m.obj:1:3: '1,5' is not a number");
+}
+
+TEST(LoadObjErrors, LongTokensAreCutTo40Characters) {
+    const std::string token(45, 'z');
+    EXPECT_EQ(only_error("v 1 2 " + token + "\n"), "m.obj:1:7: '" + std::string(40, 'z') + "...' is not a number");
+    const std::string exactly_40(40, 'y');
+    EXPECT_EQ(only_error("v 1 2 " + exactly_40 + "\n"), "m.obj:1:7: '" + exactly_40 + "' is not a number");
+    // The cut never splits a UTF-8 character ("é" is 2 bytes: 39 'a' + 'é' would end at byte 41).
+    EXPECT_EQ(only_error("v 1 2 " + std::string(39, 'a') + "\xC3\xA9zz\n"),
+              "m.obj:1:7: '" + std::string(39, 'a') + "...' is not a number");
+    // Control bytes are shown escaped.
+    EXPECT_EQ(only_error(std::string("v 1 2 a\x01", 8) + "\n"), "m.obj:1:7: 'a\\x01' is not a number");
+}
+
+TEST(LoadObjErrors, NumberOutOfRange) {
+    EXPECT_EQ(only_error("v 1 1e39 0\n"), "m.obj:1:5: number '1e39' is out of range");
+    EXPECT_EQ(only_error("vn -4e38 0 0\n"), "m.obj:1:4: number '-4e38' is out of range");
+    // Too small to be a float rounds to zero, as strtof does: no error.
+    EXPECT_EQ(parse("v 1e-50 0 0\n").positions[0], Vec3f(0, 0, 0));
+}
+
+TEST(LoadObjErrors, TooFewCoordinates) {
+    EXPECT_EQ(only_error("v 1 2 3\n  v 1 2\n"), "m.obj:2:3: a vertex needs 3 coordinates (x y z)");
+    EXPECT_EQ(only_error("v # 1 2 3\n"), "m.obj:1:1: a vertex needs 3 coordinates (x y z)");
+    EXPECT_EQ(only_error("vn 1 2\n"), "m.obj:1:1: a normal needs 3 coordinates (x y z)");
+    EXPECT_EQ(only_error("\tvt\n"), "m.obj:1:2: a texture coordinate needs at least 1 number");
+}
+
+TEST(LoadObjErrors, FaceWithTooFewVertices) {
+    EXPECT_EQ(only_error("v 0 0 0\nv 1 0 0\nf 1 2\n"), "m.obj:3:1: a face needs at least 3 vertices, this one has 2");
+    EXPECT_EQ(only_error(" f  # empty\n"), "m.obj:1:2: a face needs at least 3 vertices, this one has 0");
+}
+
+TEST(LoadObjErrors, IndexZero) {
+    EXPECT_EQ(only_error("v 0 0 0\nv 1 0 0\nf 1 0 2\n"), "m.obj:3:5: index 0 is invalid: OBJ indices start at 1");
+    EXPECT_EQ(only_error("v 0 0 0\nvn 0 0 1\nf 1//1 1//0 1//1\n"),
+              "m.obj:3:11: index 0 is invalid: OBJ indices start at 1");
+    EXPECT_EQ(only_error("v 0 0 0\nvt 0\nf 1/-0 1/1 1/1\n"), "m.obj:3:5: index 0 is invalid: OBJ indices start at 1");
+}
+
+TEST(LoadObjErrors, PositiveIndexOutOfRange) {
+    const std::string cube = "v 0 0 0\nv 0 0 1\nv 0 1 0\nv 0 1 1\nv 1 0 0\nv 1 0 1\nv 1 1 0\nv 1 1 1\n";
+    EXPECT_EQ(only_error(cube + "f 1 9 2\n"), "m.obj:9:5: vertex index 9 is out of range: the file has 8 vertices");
+    EXPECT_EQ(only_error("v 0 0 0\nf 1 1 2\n"), "m.obj:2:7: vertex index 2 is out of range: the file has 1 vertex");
+    EXPECT_EQ(all_located(errors_of("f 1 2 1\n")),
+              "m.obj:1:3: vertex index 1 is out of range: the file has 0 vertices\n"
+              "m.obj:1:5: vertex index 2 is out of range: the file has 0 vertices\n"
+              "m.obj:1:7: vertex index 1 is out of range: the file has 0 vertices\n");
+    EXPECT_EQ(only_error("v 0 0 0\nvn 0 0 1\nvn 1 0 0\nf 1//1 1//3 1//2\n"),
+              "m.obj:4:11: normal index 3 is out of range: the file has 2 normals");
+    EXPECT_EQ(only_error("v 0 0 0\nvt 0\nvn 0 0 1\nf 1//1 1//1 1/1/2\n"),
+              "m.obj:4:17: normal index 2 is out of range: the file has 1 normal");
+    EXPECT_EQ(only_error("v 0 0 0\nvt 0 0\nf 1/1 1/1 1/2\n"),
+              "m.obj:3:13: texture coordinate index 2 is out of range: the file has 1 texture coordinate");
+    // Too large even for parse_int: shown as written.
+    EXPECT_EQ(only_error("v 0 0 0\nf 1 1 99999999999999999999\n"),
+              "m.obj:2:7: vertex index 99999999999999999999 is out of range: the file has 1 vertex");
+}
+
+TEST(LoadObjErrors, NegativeIndexOutOfRange) {
+    EXPECT_EQ(only_error("v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n"),
+              "m.obj:3:9: vertex index -3 is out of range: 2 vertices are defined before this line");
+    EXPECT_EQ(only_error("v 0 0 0\nf -1 -2 -1\nv 1 0 0\n"),
+              "m.obj:2:6: vertex index -2 is out of range: 1 vertex is defined before this line");
+    EXPECT_EQ(only_error("f -1 1 1\nv 0 0 0\n"),
+              "m.obj:1:3: vertex index -1 is out of range: 0 vertices are defined before this line");
+    EXPECT_EQ(only_error("v 0 0 0\nf 1//-1 1 1\nvn 0 0 1\n"),
+              "m.obj:2:6: normal index -1 is out of range: 0 normals are defined before this line");
+    EXPECT_EQ(only_error("v 0 0 0\nvt 0\nf 1/-2 1 1\nvt 1\n"),
+              "m.obj:3:5: texture coordinate index -2 is out of range: "
+              "1 texture coordinate is defined before this line");
+    EXPECT_EQ(only_error("v 0 0 0\nf 1 1 -99999999999999999999\n"),
+              "m.obj:2:7: vertex index -99999999999999999999 is out of range: 1 vertex is defined before this line");
+}
+
+TEST(LoadObjErrors, MalformedFaceVertex) {
+    const std::string head = "v 0 0 0\nvt 0 0\nvn 0 0 1\n";
+    for (const char* corner : {"1/x/3", "1/", "1//", "1/1/", "/1", "//1", "1/1/1/1", "1.5", "a", "1-2", "-", "1//1x"}) {
+        EXPECT_EQ(only_error(head + "f 1 1 " + corner + "\n"),
+                  std::string("m.obj:4:7: malformed face vertex '") + corner + "'");
+    }
+}
+
+TEST(LoadObjErrors, ErrorsOfOneLineComeInColumnOrder) {
+    const std::vector<Diagnostic> errors = errors_of("v 0 0 0\nv x\nf 0 7//1\n");
+    EXPECT_EQ(all_located(errors),
+              "m.obj:2:1: a vertex needs 3 coordinates (x y z)\n"
+              "m.obj:2:3: 'x' is not a number\n"
+              "m.obj:3:1: a face needs at least 3 vertices, this one has 2\n"
+              "m.obj:3:3: index 0 is invalid: OBJ indices start at 1\n"
+              "m.obj:3:5: vertex index 7 is out of range: the file has 2 vertices\n"
+              "m.obj:3:8: normal index 1 is out of range: the file has 0 normals\n");
+}
+
+TEST(LoadObjErrors, CarriesTheSourceLineForTheCaret) {
+    const std::vector<Diagnostic> errors = errors_of("v 0 0 0\r\n\tv 1 bad 2\r\nv 0 1 0\r\n");
+    ASSERT_EQ(errors.size(), 1u);
+    EXPECT_EQ(errors[0].severity, Severity::Error);
+    EXPECT_EQ(errors[0].source_line, "\tv 1 bad 2");
+    EXPECT_EQ(format_diagnostic(errors[0]),
+              "m.obj:2:6: error: 'bad' is not a number\n"
+              "  \tv 1 bad 2\n"
+              "  \t    ^\n");
+    // On a last line without a newline too.
+    const std::vector<Diagnostic> last = errors_of("v 0 0 0\nf 1 1 2");
+    ASSERT_EQ(last.size(), 1u);
+    EXPECT_EQ(last[0].source_line, "f 1 1 2");
+}
+
+TEST(LoadObjErrors, StopsAfter20Errors) {
+    std::string text = "v 0 0 0\n";
+    for (int i = 0; i < 30; ++i) text += "f 1 1 " + std::to_string(100 + i) + "\n";
+    for (int threads : {1, 4}) {
+        for (size_t chunk_bytes : {size_t{0}, size_t{10}, size_t{64}}) {
+            const std::vector<Diagnostic> errors = errors_of(text, threads, chunk_bytes);
+            ASSERT_EQ(errors.size(), 20u);
+            EXPECT_EQ(located(errors.front()), "m.obj:2:7: vertex index 100 is out of range: the file has 1 vertex");
+            EXPECT_EQ(located(errors.back()), "m.obj:21:7: vertex index 119 is out of range: the file has 1 vertex");
+        }
+    }
+    // Several errors on the last line collected keep column order and the cut.
+    std::string crowded = "v 0 0 0\n";
+    for (int i = 0; i < 19; ++i) crowded += "v x 0 0\n";
+    crowded += "v a b c\n";
+    const std::vector<Diagnostic> errors = errors_of(crowded);
+    ASSERT_EQ(errors.size(), 20u);
+    EXPECT_EQ(located(errors.back()), "m.obj:21:3: 'a' is not a number");
+}
+
+// ---- files -----------------------------------------------------------------------------------
+
+std::string write_temp_file(const std::string& name, std::string_view content) {
+    const std::string path = ::testing::TempDir() + "load_obj_test_" + name;
+    std::FILE* file = std::fopen(path.c_str(), "wb");
+    EXPECT_NE(file, nullptr) << path;
+    if (file) {
+        std::fwrite(content.data(), 1, content.size(), file);
+        std::fclose(file);
+    }
+    return path;
+}
+
+TEST(LoadObjFile, LoadsAFile) {
+    const std::string path = write_temp_file("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4");
+    const TriangleMesh mesh = load_obj_file(path);
+    EXPECT_EQ(mesh.positions.size(), 4u);
+    EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+    std::remove(path.c_str());
+}
+
+TEST(LoadObjFile, LocatesErrorsInTheFile) {
+    const std::string path = write_temp_file("bad.obj", "v 0 0 0\nf 1 1 2\n");
+    try {
+        load_obj_file(path, ObjLoadOptions{2});
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& error) {
+        ASSERT_EQ(error.diagnostics().size(), 1u);
+        EXPECT_EQ(located(error.diagnostics()[0]),
+                  path + ":2:7: vertex index 2 is out of range: the file has 1 vertex");
+    }
+    std::remove(path.c_str());
+}
+
+// The single diagnostic of a file-level error, as "file:line:col: message".
+std::string file_error(const std::string& path) {
+    try {
+        load_obj_file(path);
+    } catch (const InputError& error) {
+        EXPECT_EQ(error.diagnostics().size(), 1u);
+        return located(error.diagnostics()[0]);
+    }
+    return "no error";
+}
+
+TEST(LoadObjFile, ReportsAMissingFile) {
+    const std::string path = ::testing::TempDir() + "load_obj_test_no_such_file.obj";
+    EXPECT_EQ(file_error(path), path + ":0:0: cannot open OBJ file: No such file or directory");
+}
+
+TEST(LoadObjFile, ReportsADirectory) {
+    const std::string path = ::testing::TempDir();
+    EXPECT_EQ(file_error(path), path + ":0:0: cannot open OBJ file: it is a directory");
+}
+
+// ---- threads and chunks ------------------------------------------------------------------------
+
+// A text with every feature, for cutting into chunks of every size.
+const char* const kEveryFeature =
+    "# header\r\n"
+    "v 0 0 0\r\n"
+    "v 1 0 0 1\n"
+    "\tv 1 1 0\n"
+    "vt 0 0\n"
+    "vn 0 0 1\n"
+    "f 1 2 3\n"
+    "v 0 1 0 # fourth\n"
+    "f -4/-1/-1 -3/1/1 -2//1 -1\n"
+    "\n"
+    "o name\n"
+    "f 1/1 2/1 3/1 4/1 5/1\n"
+    "v 2 2 2";
+
+TEST(LoadObjChunks, EveryChunkSizeGivesTheSameMesh) {
+    const std::string_view text = kEveryFeature;
+    const TriangleMesh reference = parse(text);
+    ASSERT_EQ(reference.positions.size(), 5u);
+    EXPECT_EQ(reference.positions[4], Vec3f(2, 2, 2));
+    EXPECT_EQ(reference.indices, (std::vector<uint32_t>{0, 1, 2, 0, 1, 2, 0, 2, 3, 0, 1, 2, 0, 2, 3, 0, 3, 4}));
+    EXPECT_EQ(reference.normal_indices, (std::vector<uint32_t>{N, N, N, 0, 0, 0, 0, 0, N, N, N, N, N, N, N, N, N, N}));
+    for (size_t chunk_bytes = 1; chunk_bytes <= text.size() + 1; ++chunk_bytes) {
+        for (int threads : {1, 3}) {
+            EXPECT_EQ(describe_difference(reference, parse(text, threads, chunk_bytes)), "")
+                << "chunk_bytes " << chunk_bytes << ", threads " << threads;
+        }
+    }
+}
+
+TEST(LoadObjChunks, EveryChunkSizeGivesTheSameErrors) {
+    const std::string text = std::string(kEveryFeature) + "\nf 1 2 -6\nvn x 0 0\nf 1//3 2 3\nf 9 9\n";
+    const std::string expected =
+        "m.obj:14:7: vertex index -6 is out of range: 5 vertices are defined before this line\n"
+        "m.obj:15:4: 'x' is not a number\n"
+        "m.obj:16:6: normal index 3 is out of range: the file has 2 normals\n"
+        "m.obj:17:1: a face needs at least 3 vertices, this one has 2\n"
+        "m.obj:17:3: vertex index 9 is out of range: the file has 5 vertices\n"
+        "m.obj:17:5: vertex index 9 is out of range: the file has 5 vertices\n";
+    EXPECT_EQ(all_located(errors_of(text)), expected);
+    for (size_t chunk_bytes = 1; chunk_bytes <= text.size() + 1; ++chunk_bytes) {
+        for (int threads : {1, 3}) {
+            EXPECT_EQ(all_located(errors_of(text, threads, chunk_bytes)), expected)
+                << "chunk_bytes " << chunk_bytes << ", threads " << threads;
+        }
+    }
+}
+
+// A grid of side x side vertices written a row at a time, each row followed by the faces that join
+// it to the row before in one of three styles (positive quads; negative-index triangles with
+// normals; tab-separated v/t/n quads with CRLF), with the mesh it must give computed alongside.
+struct GeneratedObj {
+    std::string text;
+    std::vector<Vec3f> positions;
+    std::vector<uint32_t> indices;
+    std::vector<uint32_t> normal_indices;
+    int lines = 0;  // lines written so far
+};
+
+void add_line(GeneratedObj& obj, const std::string& line) {
+    obj.text += line;
+    ++obj.lines;
+}
+
+GeneratedObj make_grid_obj(int side, int error_row = -1) {
+    GeneratedObj obj;
+    obj.text.reserve(static_cast<size_t>(side) * side * 70);
+    add_line(obj, "# generated grid\n");
+    char line[128];
+    for (int row = 0; row < side; ++row) {
+        for (int i = 0; i < side; ++i) {
+            // Multiples of 1/8 and 1/16 print exactly with %.4f, so the floats are known exactly.
+            const Vec3f p(static_cast<float>(i) * 0.125f, static_cast<float>(row) * 0.125f,
+                          static_cast<float>((i * 7 + row * 3) % 16) * 0.0625f);
+            std::snprintf(line, sizeof line, "v %.4f %.4f %.4f\n", double(p.x), double(p.y), double(p.z));
+            add_line(obj, line);
+            add_line(obj, "vn 0 0 1\n");
+            add_line(obj, "vt 0.5 0.5\n");
+            obj.positions.push_back(p);
+        }
+        if (row == 0) continue;
+        if (row == error_row) {
+            // Late errors: a negative index reaching before the file start, forward ones past its end.
+            const long long defined = static_cast<long long>(row + 1) * side;
+            std::snprintf(line, sizeof line, "f 1 -%lld 2\n", defined + 1);
+            add_line(obj, line);
+            const long long total = static_cast<long long>(side) * side;
+            std::snprintf(line, sizeof line, "f 1 2 %lld/%lld\n", total + 2, total + 1);
+            add_line(obj, line);
+        }
+        const int defined = (row + 1) * side;  // vertices (and normals) defined so far
+        for (int i = 0; i + 1 < side; ++i) {
+            const int a = (row - 1) * side + i + 1;  // 1-based corners of the quad, counter-clockwise
+            const int b = a + 1;
+            const int c = row * side + i + 2;
+            const int d = c - 1;
+            const uint32_t q[4] = {uint32_t(a - 1), uint32_t(b - 1), uint32_t(c - 1), uint32_t(d - 1)};
+            const uint32_t fan[6] = {q[0], q[1], q[2], q[0], q[2], q[3]};
+            obj.indices.insert(obj.indices.end(), fan, fan + 6);
+            if (row % 3 == 0) {
+                std::snprintf(line, sizeof line, "f %d %d %d %d\n", a, b, c, d);
+                add_line(obj, line);
+                obj.normal_indices.insert(obj.normal_indices.end(), 6, kNoNormal);
+            } else if (row % 3 == 1) {
+                const int na = a - defined - 1, nb = b - defined - 1, nc = c - defined - 1, nd = d - defined - 1;
+                std::snprintf(line, sizeof line, "f %d//%d %d//%d %d//%d\n", na, na, nb, nb, nc, nc);
+                add_line(obj, line);
+                std::snprintf(line, sizeof line, "f %d//%d %d//%d %d//%d\n", na, na, nc, nc, nd, nd);
+                add_line(obj, line);
+                obj.normal_indices.insert(obj.normal_indices.end(), fan, fan + 6);
+            } else {
+                std::snprintf(line, sizeof line, "f\t%d/%d/%d %d/%d/%d\t%d/%d/%d %d/%d/%d # quad\r\n", a, a, a, b, b,
+                              b, c, c, c, d, d, d);
+                add_line(obj, line);
+                obj.normal_indices.insert(obj.normal_indices.end(), fan, fan + 6);
+            }
+        }
+    }
+    return obj;
+}
+
+TEST(LoadObjChunks, ThreadsGiveTheSameLargeMesh) {
+    const GeneratedObj obj = make_grid_obj(300);
+    ASSERT_GT(obj.text.size(), size_t{8} << 20);  // several chunks per thread
+    const TriangleMesh one = parse(obj.text, 1);
+    EXPECT_EQ(one.positions.size(), 300u * 300u);
+    EXPECT_EQ(one.triangle_count(), 2u * 299u * 299u);
+    EXPECT_TRUE(one.positions == obj.positions);
+    EXPECT_TRUE(one.indices == obj.indices);
+    EXPECT_TRUE(one.normal_indices == obj.normal_indices);
+    EXPECT_EQ(one.normals.size(), 300u * 300u);
+    for (int threads : {2, 4}) {
+        EXPECT_EQ(describe_difference(one, parse(obj.text, threads)), "") << threads << " threads";
+    }
+    EXPECT_EQ(describe_difference(one, parse(obj.text, 4, 1000)), "");
+    // Thread counts below 1 mean 1.
+    EXPECT_EQ(describe_difference(one, parse(obj.text, 0)), "");
+    EXPECT_EQ(describe_difference(one, parse(obj.text, -3)), "");
+}
+
+TEST(LoadObjChunks, ThreadsGiveTheSameLateErrors) {
+    GeneratedObj obj = make_grid_obj(300, 250);
+    add_line(obj, "v 1 2\n");  // the very last line, a vertex short of a number
+    // The error lines follow row 250's vertices: the header, 251 rows of v/vn/vt lines, then the
+    // faces of rows 1..249, which are 83 rows of each style (598, 299 and 299 lines).
+    const int line = 1 + 251 * 300 * 3 + 83 * (598 + 299 + 299) + 1;
+    ASSERT_EQ(line, 325170);
+    ASSERT_EQ(obj.lines, 1 + 300 * 300 * 3 + 100 * (598 + 299 + 299) - 299 + 2 + 1);  // no row 300
+    const std::string expected =
+        "m.obj:325170:5: vertex index -75301 is out of range: 75300 vertices are defined before this line\n"
+        "m.obj:325171:7: vertex index 90002 is out of range: the file has 90001 vertices\n"
+        "m.obj:325171:13: texture coordinate index 90001 is out of range: the file has 90000 texture coordinates\n"
+        "m.obj:" + std::to_string(obj.lines) + ":1: a vertex needs 3 coordinates (x y z)\n";
+    EXPECT_EQ(all_located(errors_of(obj.text, 1)), expected);
+    for (int threads : {2, 4}) EXPECT_EQ(all_located(errors_of(obj.text, threads)), expected) << threads << " threads";
+    EXPECT_EQ(all_located(errors_of(obj.text, 4, 4096)), expected);
+}
+
+}  // namespace
+}  // namespace raycast

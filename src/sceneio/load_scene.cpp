@@ -1,0 +1,161 @@
+#include "sceneio/load_scene.h"
+
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <map>
+
+#include "base/limits.h"
+#include "sceneio/load_obj.h"
+#include "sceneio/parse_scene.h"
+
+namespace raycast {
+
+namespace {
+
+bool is_regular_file(const std::string& path) {
+    struct stat info;
+    return ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
+}
+
+std::string folder_of(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+class MeshLoader {
+public:
+    MeshLoader(SceneDesc& desc, const SceneLoadOptions& options) : desc_(desc), options_(options) {}
+
+    void load_all(ObjectDesc& object) {
+        if (object.kind == ObjectDesc::Kind::TriangleMesh) load(object);
+        for (ObjectDesc& child : object.children) load_all(child);
+    }
+
+    std::vector<Diagnostic>& errors() { return errors_; }
+
+private:
+    // Where a mesh path is looked for: as written (from the working directory, the course's rule),
+    // next to the scene file (MIT 6.837's layout), and in the scene folder's parent (the course's
+    // layout, testcases/ beside mesh/, when raycast runs from elsewhere).
+    std::vector<std::pair<std::string, const char*>> candidates(const std::string& path) const {
+        std::vector<std::pair<std::string, const char*>> tried{{path, "from the working directory"}};
+        if (path.empty() || path[0] == '/') return tried;
+        const std::string folder = folder_of(desc_.file);
+        if (folder.empty()) {
+            tried.push_back({"../" + path, "from the scene file's parent folder"});
+        } else {
+            tried.push_back({folder + path, "next to the scene file"});
+            tried.push_back({folder + "../" + path, "from the scene file's parent folder"});
+        }
+        return tried;
+    }
+
+    void load(ObjectDesc& object) {
+        const auto tried = candidates(object.mesh_path);
+        const std::string* found = nullptr;
+        for (const auto& candidate : tried)
+            if (is_regular_file(candidate.first)) {
+                found = &candidate.first;
+                break;
+            }
+        if (!found) {
+            std::string message = "cannot open OBJ file " + quote(object.mesh_path) + ": tried ";
+            for (size_t i = 0; i < tried.size(); ++i) {
+                if (i > 0) message += i + 1 == tried.size() ? " and " : ", ";
+                message += quote(tried[i].first) + " (" + tried[i].second + ")";
+            }
+            errors_.push_back({Severity::Error, object.mesh_path_location, message, ""});
+            return;
+        }
+        auto known = index_of_path_.find(*found);
+        if (known != index_of_path_.end()) {
+            object.mesh = known->second;
+            return;
+        }
+        try {
+            ObjLoadOptions obj_options;
+            obj_options.threads = options_.threads;
+            MeshDesc mesh{*found, load_obj_file(*found, obj_options)};
+            object.mesh = static_cast<int>(desc_.meshes.size());
+            index_of_path_[*found] = object.mesh;
+            desc_.meshes.push_back(std::move(mesh));
+        } catch (const InputError& error) {
+            for (const Diagnostic& d : error.diagnostics()) errors_.push_back(d);
+            errors_.push_back({Severity::Note, object.mesh_path_location, "the mesh was named here", ""});
+        }
+    }
+
+    static std::string quote(const std::string& s) { return "'" + s + "'"; }
+
+    SceneDesc& desc_;
+    const SceneLoadOptions& options_;
+    std::map<std::string, int> index_of_path_;
+    std::vector<Diagnostic> errors_;
+};
+
+// Attaches the source line to diagnostics located in the scene text (the OBJ loader fills its own).
+void add_source_lines(std::vector<Diagnostic>& diagnostics, const std::string& text, const std::string& file) {
+    for (Diagnostic& d : diagnostics) {
+        if (d.location.file != file || d.location.line <= 0 || !d.source_line.empty()) continue;
+        size_t start = 0;
+        for (int line = 1; line < d.location.line && start != std::string::npos; ++line) {
+            start = text.find('\n', start);
+            if (start != std::string::npos) ++start;
+        }
+        if (start == std::string::npos) continue;
+        size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        if (end > start && text[end - 1] == '\r') --end;
+        if (end - start <= 300) d.source_line = text.substr(start, end - start);
+    }
+}
+
+}  // namespace
+
+std::string read_text_file(const std::string& path, const char* what, int64_t max_bytes) {
+    struct stat info;
+    if (::stat(path.c_str(), &info) != 0) throw InputError(path, std::string("cannot open ") + what + ": " + std::strerror(errno));
+    if (S_ISDIR(info.st_mode)) throw InputError(path, std::string("cannot open ") + what + ": it is a directory");
+    if (int64_t(info.st_size) > max_bytes)
+        throw InputError(path, string_printf("cannot open %s: it is %lld bytes, more than the limit of %lld", what,
+                                             (long long)info.st_size, (long long)max_bytes));
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    if (!file) throw InputError(path, std::string("cannot open ") + what + ": " + std::strerror(errno));
+    std::string text;
+    char buffer[65536];
+    size_t got;
+    while ((got = std::fread(buffer, 1, sizeof buffer, file)) > 0) {
+        text.append(buffer, got);
+        if (int64_t(text.size()) > max_bytes) break;
+    }
+    const bool failed = std::ferror(file) != 0;
+    std::fclose(file);
+    if (failed) throw InputError(path, std::string("cannot read ") + what);
+    if (int64_t(text.size()) > max_bytes)
+        throw InputError(path, string_printf("cannot open %s: it is more than the limit of %lld bytes", what,
+                                             (long long)max_bytes));
+    return text;
+}
+
+SceneDesc load_scene_text(const std::string& text, const std::string& file_name, const SceneLoadOptions& options) {
+    SceneDesc desc = parse_scene(text, file_name);
+    if (desc.root) {
+        MeshLoader loader(desc, options);
+        loader.load_all(*desc.root);
+        if (!loader.errors().empty()) {
+            std::vector<Diagnostic> all = std::move(loader.errors());
+            add_source_lines(all, text, file_name);
+            throw InputError(std::move(all));
+        }
+    }
+    return desc;
+}
+
+SceneDesc load_scene_file(const std::string& path, const SceneLoadOptions& options) {
+    return load_scene_text(read_text_file(path, "scene file", kMaxSceneFileBytes), path, options);
+}
+
+}  // namespace raycast

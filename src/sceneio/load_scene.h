@@ -1,0 +1,27 @@
+// Reads a scene file and the OBJ meshes it names: the whole input stage of the pipeline.
+#pragma once
+
+#include <string>
+
+#include "scene/scene_desc.h"
+
+namespace raycast {
+
+struct SceneLoadOptions {
+    int threads = 1;  ///< for parsing large OBJ files
+};
+
+/// Reads and parses the scene file, then loads every OBJ file it names, each once. A relative mesh
+/// path is tried as written (from the working directory, the course's rule), then from the scene
+/// file's folder, then from that folder's parent. Throws InputError with every problem found.
+SceneDesc load_scene_file(const std::string& path, const SceneLoadOptions& options = {});
+
+/// The same for scene text in memory; `file_name` labels diagnostics and gives the folder for
+/// mesh paths.
+SceneDesc load_scene_text(const std::string& text, const std::string& file_name, const SceneLoadOptions& options = {});
+
+/// Reads a whole file; throws InputError(path, "cannot open <what>: <reason>") when it cannot,
+/// including for a directory or a file larger than max_bytes.
+std::string read_text_file(const std::string& path, const char* what, int64_t max_bytes);
+
+}  // namespace raycast

@@ -1,0 +1,714 @@
+#include "sceneio/parse_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "base/limits.h"
+#include "base/parse_number.h"
+#include "sceneio/lexer.h"
+
+namespace raycast {
+
+namespace {
+
+const char* const kTopLevelKeywords[] = {"PerspectiveCamera", "OrthographicCamera", "Background",
+                                         "Lights",            "Materials",          "Group"};
+const char* const kObjectKeywords[] = {"Group", "Sphere", "Plane", "Triangle", "TriangleMesh", "Transform"};
+const char* const kTransformItems[] = {"Scale",   "UniformScale", "Translate", "XRotate", "YRotate",
+                                       "ZRotate", "Rotate",       "Matrix4f",  "Matrix"};
+
+template <size_t N>
+bool is_one_of(std::string_view word, const char* const (&list)[N]) {
+    return std::find(std::begin(list), std::end(list), word) != std::end(list);
+}
+
+// Levenshtein distance, for "did you mean" hints.
+size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diagonal = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            const size_t above = row[j];
+            const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                              std::tolower(static_cast<unsigned char>(b[j - 1]));
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (same ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
+
+// "; did you mean 'Sphere'?" when one candidate is close, else ": expected A, B or C".
+std::string suggestion(std::string_view word, const std::vector<std::string>& candidates) {
+    const std::string* best = nullptr;
+    size_t best_distance = 0;
+    for (const std::string& candidate : candidates) {
+        const size_t distance = edit_distance(word, candidate);
+        if (!best || distance < best_distance) {
+            best = &candidate;
+            best_distance = distance;
+        }
+    }
+    if (best && word.size() < 64 && best_distance <= std::max<size_t>(1, best->size() / 3))
+        return "; did you mean '" + *best + "'?";
+    std::string list;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+        if (i > 0) list += i + 1 == candidates.size() ? " or " : ", ";
+        list += candidates[i];
+    }
+    return ": expected " + list;
+}
+
+template <size_t N>
+std::vector<std::string> to_strings(const char* const (&list)[N]) {
+    return std::vector<std::string>(std::begin(list), std::end(list));
+}
+
+std::string plural(int64_t count, const char* singular, const char* plural_form) {
+    return std::to_string(count) + " " + (count == 1 ? singular : plural_form);
+}
+
+class Parser {
+public:
+    Parser(std::string_view text, const std::string& file_name) : lexer_(text, file_name) { desc_.file = file_name; }
+
+    SceneDesc parse() {
+        try {
+            while (!lexer_.peek().is_end()) parse_top_level_block();
+            check_complete();
+        } catch (const Stop&) {
+        }
+        if (error_count_ > 0) throw InputError(std::move(diagnostics_));
+        desc_.warnings = std::move(diagnostics_);
+        return std::move(desc_);
+    }
+
+private:
+    struct Abandon {};  // leave the current block: its error is recorded
+    struct Stop {};     // stop parsing altogether
+
+    // ---- diagnostics -------------------------------------------------------------------------
+
+    void report(const Token& at, Severity severity, std::string message) {
+        diagnostics_.push_back(make_diagnostic(lexer_, at, severity, std::move(message)));
+        if (severity != Severity::Error) return;
+        if (++error_count_ >= kMaxReportedErrors) {
+            Diagnostic stop;
+            stop.location.file = lexer_.file_name();
+            stop.message = string_printf("too many errors (%d): stopping here", error_count_);
+            diagnostics_.push_back(std::move(stop));
+            throw Stop{};
+        }
+    }
+    void error(const Token& at, std::string message) { report(at, Severity::Error, std::move(message)); }
+    void warning(const Token& at, std::string message) { report(at, Severity::Warning, std::move(message)); }
+    [[noreturn]] void fail(const Token& at, std::string message) {
+        error(at, std::move(message));
+        throw Abandon{};
+    }
+
+    // Skips tokens until the brace depth is back to `depth` and the next token is one that
+    // `resumes` accepts, so that one mistake does not produce a cascade of follow-on errors.
+    void recover(int depth, const std::function<bool(const Token&)>& resumes) {
+        while (!lexer_.peek().is_end()) {
+            if (lexer_.depth() == depth && resumes(lexer_.peek())) return;
+            if (lexer_.depth() < depth) return;
+            lexer_.take();
+        }
+    }
+
+    // ---- tokens and numbers ------------------------------------------------------------------
+
+    Token expect_open(const Token& block) {
+        const Token open = lexer_.take();
+        if (!open.is("{"))
+            fail(open, "expected '{' after " + quote_token(block.text) + ", got " + describe(open));
+        return open;
+    }
+
+    std::string describe(const Token& token) const {
+        return token.is_end() ? std::string("the end of the file") : quote_token(token.text);
+    }
+
+    [[noreturn]] void fail_unclosed(const Token& at, const Token& block) {
+        fail(at, string_printf("unexpected end of file: %s opened at line %d is not closed",
+                               quote_token(block.text).c_str(), block.line));
+    }
+
+    float read_float(std::string_view field) {
+        const Token token = lexer_.take();
+        float value = 0;
+        const char* first = token.text.data();
+        const char* last = first + token.text.size();
+        const NumberResult result = parse_float(first, last, value);
+        if (token.is_end() || result.status == NumberStatus::Invalid || result.end != last) {
+            fail(token, "expected a number for " + quote_token(field) + ", got " + describe(token));
+        }
+        if (result.status == NumberStatus::OutOfRange)
+            fail(token, "number " + quote_token(token.text) + " for " + quote_token(field) +
+                            " is out of range (floats reach about 3.4e38)");
+        return value;
+    }
+
+    Vec3f read_vec3(std::string_view field) {
+        Vec3f v;
+        v.x = read_float(field);
+        v.y = read_float(field);
+        v.z = read_float(field);
+        return v;
+    }
+
+    int64_t read_int(std::string_view field) {
+        const Token token = lexer_.take();
+        int64_t value = 0;
+        const char* first = token.text.data();
+        const char* last = first + token.text.size();
+        const NumberResult result = parse_int(first, last, value);
+        if (token.is_end() || result.status == NumberStatus::Invalid || result.end != last)
+            fail(token, "expected a whole number for " + quote_token(field) + ", got " + describe(token));
+        if (result.status == NumberStatus::OutOfRange || value > (int64_t{1} << 31) || value < -(int64_t{1} << 31))
+            fail(token, "number " + quote_token(token.text) + " for " + quote_token(field) + " is out of range");
+        return value;
+    }
+
+    // Reads `numX N`, which must open a Lights, Materials or Group block.
+    int64_t read_count(const char* field) {
+        const Token token = lexer_.take();
+        if (!token.is(field)) fail(token, string_printf("expected '%s', got ", field) + describe(token));
+        const Token value_token = lexer_.peek();
+        const int64_t count = read_int(field);
+        if (count < 0) fail(value_token, string_printf("%s must not be negative, got %lld", field, (long long)count));
+        return count;
+    }
+
+    // ---- blocks of named fields, in any order --------------------------------------------------
+
+    struct Field {
+        const char* name;
+        std::function<void(const Token& name_token)> read;
+        bool required = true;
+        bool seen = false;
+    };
+
+    // Parses `{ field value ... }` after `block` (whose keyword was taken) and reports required
+    // fields that are missing at the closing brace, which it returns.
+    Token finish_fields(const Token& block, std::vector<Field>& fields) {
+        expect_open(block);
+        Token close;
+        for (;;) {
+            const Token token = lexer_.take();
+            if (token.is("}")) {
+                close = token;
+                break;
+            }
+            if (token.is_end()) fail_unclosed(token, block);
+            auto field = std::find_if(fields.begin(), fields.end(), [&](const Field& f) { return token.is(f.name); });
+            if (field == fields.end()) {
+                std::vector<std::string> names;
+                for (const Field& f : fields) names.push_back(f.name);
+                fail(token, "unknown field " + quote_token(token.text) + " in " + std::string(block.text) +
+                                suggestion(token.text, names));
+            }
+            if (field->seen) fail(token, "duplicate field " + quote_token(token.text) + " in " + std::string(block.text));
+            field->seen = true;
+            field->read(token);
+        }
+        for (const Field& f : fields)
+            if (f.required && !f.seen) error(close, std::string(block.text) + " is missing " + quote_token(f.name));
+        return close;
+    }
+
+    // ---- top level ----------------------------------------------------------------------------
+
+    void parse_top_level_block() {
+        const Token keyword = lexer_.take();
+        const int depth = lexer_.depth();
+        try {
+            if (keyword.is("PerspectiveCamera") || keyword.is("OrthographicCamera")) {
+                parse_camera(keyword);
+            } else if (keyword.is("Background")) {
+                parse_background(keyword);
+            } else if (keyword.is("Lights")) {
+                parse_lights(keyword);
+            } else if (keyword.is("Materials")) {
+                parse_materials(keyword);
+            } else if (keyword.is("Group")) {
+                if (desc_.root) warning(keyword, string_printf("this Group replaces the one at line %d", desc_.root->location.line));
+                desc_.root = parse_group(keyword);
+            } else if (keyword.is("}")) {
+                fail(keyword, "unexpected '}' outside any block");
+            } else {
+                fail(keyword, "unknown keyword " + quote_token(keyword.text) +
+                                  suggestion(keyword.text, to_strings(kTopLevelKeywords)));
+            }
+        } catch (const Abandon&) {
+            recover(depth, [](const Token& t) { return is_one_of(t.text, kTopLevelKeywords); });
+        }
+    }
+
+    void check_complete() {
+        const SourceLocation file_only{lexer_.file_name(), 0, 0};
+        if (!desc_.camera)
+            diagnostics_.push_back(
+                {Severity::Error, file_only, "the scene has no camera: add a PerspectiveCamera block", ""}),
+                ++error_count_;
+        if (!desc_.root)
+            diagnostics_.push_back({Severity::Error, file_only, "the scene has no Group: there is nothing to render", ""}),
+                ++error_count_;
+    }
+
+    void parse_camera(const Token& keyword) {
+        const bool perspective = keyword.is("PerspectiveCamera");
+        CameraDesc camera;
+        camera.kind = perspective ? CameraDesc::Kind::Perspective : CameraDesc::Kind::Orthographic;
+        camera.location = lexer_.location(keyword);
+        Token direction_token, up_token, angle_token, size_token, width_token, height_token;
+        std::vector<Field> fields = {
+            {"center", [&](const Token&) { camera.center = read_vec3("center"); }},
+            {"direction",
+             [&](const Token& t) {
+                 direction_token = t;
+                 camera.direction = read_vec3("direction");
+             }},
+            {"up",
+             [&](const Token& t) {
+                 up_token = t;
+                 camera.up = read_vec3("up");
+             }},
+        };
+        if (perspective) {
+            fields.push_back({"angle", [&](const Token&) {
+                                  angle_token = lexer_.peek();
+                                  camera.angle_degrees = read_float("angle");
+                              }});
+        } else {
+            fields.push_back({"size", [&](const Token&) {
+                                  size_token = lexer_.peek();
+                                  camera.size = read_float("size");
+                              }});
+        }
+        fields.push_back({"width",
+                          [&](const Token&) {
+                              width_token = lexer_.peek();
+                              camera.width = static_cast<int>(read_int("width"));
+                          },
+                          false});
+        fields.push_back({"height",
+                          [&](const Token&) {
+                              height_token = lexer_.peek();
+                              camera.height = static_cast<int>(read_int("height"));
+                          },
+                          false});
+        const Token close = finish_fields(keyword, fields);
+        // Values are checked once all are known.
+        if (fields[1].seen && dot(camera.direction, camera.direction) == 0)
+            error(direction_token, "the camera 'direction' must not be the zero vector");
+        else if (fields[2].seen && dot(camera.up, camera.up) == 0)
+            error(up_token, "the camera 'up' must not be the zero vector");
+        else if (fields[1].seen && fields[2].seen) {
+            const Vec3f d = normalize(camera.direction), u = normalize(camera.up);
+            if (length(cross(d, u)) < 1e-6f)
+                error(up_token, "the camera 'up' is parallel to 'direction': the image would have no up; "
+                                "choose an up vector that is not");
+        }
+        if (perspective && fields[3].seen && !(camera.angle_degrees > 0 && camera.angle_degrees < 180))
+            error(angle_token, string_printf("angle must be more than 0 and less than 180 degrees, got %g",
+                                             double(camera.angle_degrees)));
+        if (!perspective && fields[3].seen && !(camera.size > 0))
+            error(size_token, string_printf("size must be positive, got %g", double(camera.size)));
+        const bool has_width = fields[4].seen, has_height = fields[5].seen;
+        if (has_width != has_height) error(close, has_width ? "the camera has a width but no height" : "the camera has a height but no width");
+        bool size_ok = true;
+        if (has_width) size_ok &= check_side("width", camera.width, width_token);
+        if (has_height) size_ok &= check_side("height", camera.height, height_token);
+        if (has_width && has_height && size_ok &&
+            int64_t{camera.width} * int64_t{camera.height} > kMaxImagePixels)
+            error(width_token, string_printf("a %d x %d image has more pixels than raycast's limit of %lld "
+                                             "(8192 x 8192)",
+                                             camera.width, camera.height, (long long)kMaxImagePixels));
+        if (desc_.camera)
+            warning(keyword, string_printf("this camera replaces the one at line %d", desc_.camera->location.line));
+        desc_.camera = camera;
+    }
+
+    bool check_side(const char* name, int value, const Token& token) {
+        if (value < 1) {
+            error(token, string_printf("%s must be at least 1, got %d", name, value));
+            return false;
+        }
+        if (value > kMaxImageSide) {
+            error(token, string_printf("%s %d is more than raycast's limit of %d", name, value, kMaxImageSide));
+            return false;
+        }
+        return true;
+    }
+
+    void parse_background(const Token& keyword) {
+        std::vector<Field> fields = {
+            {"color", [&](const Token&) { desc_.background = read_vec3("color"); }, false},
+            {"ambientLight", [&](const Token&) { desc_.ambient = read_vec3("ambientLight"); }, false},
+        };
+        finish_fields(keyword, fields);
+    }
+
+    void parse_lights(const Token& keyword) {
+        expect_open(keyword);
+        const int64_t count = read_count("numLights");
+        if (desc_.has_lights_block) warning(keyword, "this Lights block replaces the earlier one");
+        desc_.has_lights_block = true;
+        desc_.lights.clear();
+        for (;;) {
+            const Token token = lexer_.take();
+            if (token.is("}")) {
+                if (static_cast<int64_t>(desc_.lights.size()) != count)
+                    error(token, string_printf("numLights is %lld but ", (long long)count) +
+                                     plural(static_cast<int64_t>(desc_.lights.size()), "light is", "lights are") +
+                                     " given");
+                return;
+            }
+            if (token.is_end()) fail_unclosed(token, keyword);
+            if (static_cast<int64_t>(desc_.lights.size()) == count)
+                error(token, string_printf("numLights is %lld but more lights follow", (long long)count));
+            desc_.lights.push_back(parse_light(token));
+        }
+    }
+
+    LightDesc parse_light(const Token& keyword) {
+        LightDesc light;
+        light.location = lexer_.location(keyword);
+        if (keyword.is("DirectionalLight")) {
+            light.kind = LightDesc::Kind::Directional;
+            Token direction_token;
+            std::vector<Field> fields = {
+                {"direction",
+                 [&](const Token& t) {
+                     direction_token = t;
+                     light.direction = read_vec3("direction");
+                 }},
+                {"color", [&](const Token&) { light.color = read_vec3("color"); }},
+            };
+            finish_fields(keyword, fields);
+            if (fields[0].seen && dot(light.direction, light.direction) == 0)
+                error(direction_token, "the light's 'direction' must not be the zero vector");
+        } else if (keyword.is("PointLight")) {
+            light.kind = LightDesc::Kind::Point;
+            Token attenuation_token;
+            std::vector<Field> fields = {
+                {"position", [&](const Token&) { light.position = read_vec3("position"); }},
+                {"color", [&](const Token&) { light.color = read_vec3("color"); }},
+                {"attenuation",
+                 [&](const Token& t) {
+                     attenuation_token = t;
+                     light.attenuation = read_vec3("attenuation");
+                 },
+                 false},
+            };
+            finish_fields(keyword, fields);
+            const Vec3f& a = light.attenuation;
+            if (fields[2].seen && (a.x < 0 || a.y < 0 || a.z < 0 || (a.x == 0 && a.y == 0 && a.z == 0)))
+                error(attenuation_token, "attenuation needs three numbers that are not negative and not all zero");
+        } else {
+            fail(keyword, "unknown light " + quote_token(keyword.text) +
+                              suggestion(keyword.text, {"DirectionalLight", "PointLight"}));
+        }
+        return light;
+    }
+
+    void parse_materials(const Token& keyword) {
+        expect_open(keyword);
+        const int64_t count = read_count("numMaterials");
+        if (!desc_.materials.empty()) warning(keyword, "this Materials block replaces the earlier one");
+        desc_.materials.clear();
+        for (;;) {
+            const Token token = lexer_.take();
+            if (token.is("}")) {
+                if (static_cast<int64_t>(desc_.materials.size()) != count)
+                    error(token, string_printf("numMaterials is %lld but ", (long long)count) +
+                                     plural(static_cast<int64_t>(desc_.materials.size()), "material is",
+                                            "materials are") +
+                                     " given");
+                return;
+            }
+            if (token.is_end()) fail_unclosed(token, keyword);
+            if (static_cast<int64_t>(desc_.materials.size()) == count)
+                error(token, string_printf("numMaterials is %lld but more materials follow", (long long)count));
+            desc_.materials.push_back(parse_material(token));
+        }
+    }
+
+    MaterialDesc parse_material(const Token& keyword) {
+        if (!keyword.is("Material") && !keyword.is("PhongMaterial"))
+            fail(keyword, "unknown material " + quote_token(keyword.text) +
+                              suggestion(keyword.text, {"Material", "PhongMaterial"}));
+        MaterialDesc material;
+        material.location = lexer_.location(keyword);
+        auto read_exponent = [&](const Token& t) {
+            const Token value = lexer_.peek();
+            material.shininess = read_float(t.text);
+            if (*material.shininess < 0)
+                error(value, string_printf("%s must not be negative, got %g", std::string(t.text).c_str(),
+                                           double(*material.shininess)));
+        };
+        std::vector<Field> fields = {
+            {"diffuseColor", [&](const Token&) { material.diffuse = read_vec3("diffuseColor"); }, false},
+            {"specularColor", [&](const Token&) { material.specular = read_vec3("specularColor"); }, false},
+            {"shininess", read_exponent, false},
+            {"exponent", read_exponent, false},
+            {"texture",
+             [&](const Token& t) {
+                 const Token path = lexer_.take();
+                 if (path.is_end() || path.is("{") || path.is("}"))
+                     fail(path, "expected a file name for 'texture', got " + describe(path));
+                 (void)t;
+                 material.texture = std::string(path.text);
+             },
+             false},
+            {"reflectiveColor", [&](const Token&) { material.reflective = read_vec3("reflectiveColor"); }, false},
+            {"transparentColor", [&](const Token&) { material.transparent = read_vec3("transparentColor"); }, false},
+            {"indexOfRefraction",
+             [&](const Token&) {
+                 const Token value = lexer_.peek();
+                 material.index_of_refraction = read_float("indexOfRefraction");
+                 if (!(material.index_of_refraction > 0))
+                     error(value, string_printf("indexOfRefraction must be positive, got %g",
+                                                double(material.index_of_refraction)));
+             },
+             false},
+        };
+        const Token close = finish_fields(keyword, fields);
+        if (fields[2].seen && fields[3].seen) error(close, "give 'shininess' or 'exponent', not both");
+        return material;
+    }
+
+    // ---- objects ------------------------------------------------------------------------------
+
+    struct NestingGuard {
+        Parser& parser;
+        NestingGuard(Parser& p, const Token& at) : parser(p) {
+            if (++parser.nesting_ > kMaxNestingDepth) {
+                parser.diagnostics_.push_back(make_diagnostic(
+                    parser.lexer_, at, Severity::Error,
+                    string_printf("groups and transforms are nested more than %d levels deep", kMaxNestingDepth)));
+                ++parser.error_count_;
+                throw Stop{};
+            }
+        }
+        ~NestingGuard() { --parser.nesting_; }
+    };
+
+    ObjectDesc parse_group(const Token& keyword) {
+        NestingGuard guard(*this, keyword);
+        ObjectDesc group;
+        group.kind = ObjectDesc::Kind::Group;
+        group.location = lexer_.location(keyword);
+        expect_open(keyword);
+        const int inner_depth = lexer_.depth();
+        const int64_t count = read_count("numObjects");
+        int64_t objects = 0;
+        for (;;) {
+            const Token token = lexer_.peek();
+            if (token.is("}")) {
+                lexer_.take();
+                if (objects != count)
+                    error(token, string_printf("numObjects is %lld but the group has ", (long long)count) +
+                                     plural(objects, "object", "objects"));
+                return group;
+            }
+            if (token.is_end()) fail_unclosed(token, keyword);
+            try {
+                if (token.is("MaterialIndex")) {
+                    lexer_.take();
+                    parse_material_index();
+                    continue;
+                }
+                if (!is_one_of(token.text, kObjectKeywords)) {
+                    lexer_.take();
+                    std::vector<std::string> candidates = to_strings(kObjectKeywords);
+                    candidates.push_back("MaterialIndex");
+                    fail(token, "unknown object " + quote_token(token.text) + suggestion(token.text, candidates));
+                }
+                if (objects == count)
+                    error(token, string_printf("numObjects is %lld but more objects follow", (long long)count));
+                ++objects;
+                group.children.push_back(parse_object(lexer_.take()));
+            } catch (const Abandon&) {
+                recover(inner_depth, [](const Token& t) {
+                    return t.is("}") || t.is("MaterialIndex") || is_one_of(t.text, kObjectKeywords);
+                });
+            }
+        }
+    }
+
+    void parse_material_index() {
+        const Token value = lexer_.peek();
+        const int64_t index = read_int("MaterialIndex");
+        const int64_t available = static_cast<int64_t>(desc_.materials.size());
+        if (index < 0 || index >= available) {
+            if (available == 0)
+                fail(value, string_printf("material index %lld is out of range: no materials are defined before "
+                                          "this point (Materials must come before the Group)",
+                                          (long long)index));
+            fail(value, string_printf("material index %lld is out of range: the scene has ", (long long)index) +
+                            plural(available, "material", "materials") +
+                            (available == 1 ? std::string(" (index 0)")
+                                            : string_printf(" (0 to %lld)", (long long)(available - 1))));
+        }
+        current_material_ = static_cast<int>(index);
+    }
+
+    ObjectDesc parse_object(const Token& keyword) {
+        if (keyword.is("Group")) return parse_group(keyword);
+        if (keyword.is("Transform")) return parse_transform(keyword);
+        ObjectDesc object;
+        object.location = lexer_.location(keyword);
+        object.material = current_material_;
+        if (keyword.is("Sphere")) {
+            object.kind = ObjectDesc::Kind::Sphere;
+            Token radius_token;
+            std::vector<Field> fields = {
+                {"center", [&](const Token&) { object.sphere.center = read_vec3("center"); }},
+                {"radius",
+                 [&](const Token&) {
+                     radius_token = lexer_.peek();
+                     object.sphere.radius = read_float("radius");
+                 }},
+            };
+            finish_fields(keyword, fields);
+            if (fields[1].seen && !(object.sphere.radius > 0))
+                error(radius_token, string_printf("radius must be positive, got %g", double(object.sphere.radius)));
+        } else if (keyword.is("Plane")) {
+            object.kind = ObjectDesc::Kind::Plane;
+            Token normal_token;
+            std::vector<Field> fields = {
+                {"normal",
+                 [&](const Token& t) {
+                     normal_token = t;
+                     object.plane.normal = read_vec3("normal");
+                 }},
+                {"offset", [&](const Token&) { object.plane.offset = read_float("offset"); }},
+            };
+            finish_fields(keyword, fields);
+            if (fields[0].seen && dot(object.plane.normal, object.plane.normal) == 0)
+                error(normal_token, "the plane's 'normal' must not be the zero vector");
+        } else if (keyword.is("Triangle")) {
+            object.kind = ObjectDesc::Kind::Triangle;
+            std::vector<Field> fields = {
+                {"vertex0", [&](const Token&) { object.vertices[0] = read_vec3("vertex0"); }},
+                {"vertex1", [&](const Token&) { object.vertices[1] = read_vec3("vertex1"); }},
+                {"vertex2", [&](const Token&) { object.vertices[2] = read_vec3("vertex2"); }},
+            };
+            finish_fields(keyword, fields);
+            const Vec3f* v = object.vertices;
+            if (fields[0].seen && fields[1].seen && fields[2].seen && length(cross(v[1] - v[0], v[2] - v[0])) == 0)
+                warning(keyword, "degenerate triangle: its vertices are on one line, so it is never seen");
+        } else if (keyword.is("TriangleMesh")) {
+            object.kind = ObjectDesc::Kind::TriangleMesh;
+            std::vector<Field> fields = {
+                {"obj_file",
+                 [&](const Token&) {
+                     const Token path = lexer_.take();
+                     if (path.is_end() || path.is("{") || path.is("}"))
+                         fail(path, "expected a file name for 'obj_file', got " + describe(path));
+                     object.mesh_path = std::string(path.text);
+                     object.mesh_path_location = lexer_.location(path);
+                 }},
+            };
+            finish_fields(keyword, fields);
+        }
+        if (object.material < 0)
+            error(keyword, std::string(keyword.text) + " has no material: put 'MaterialIndex i' before it");
+        return object;
+    }
+
+    ObjectDesc parse_transform(const Token& keyword) {
+        NestingGuard guard(*this, keyword);
+        ObjectDesc transform;
+        transform.kind = ObjectDesc::Kind::Transform;
+        transform.location = lexer_.location(keyword);
+        expect_open(keyword);
+        Mat4 m;
+        for (;;) {
+            const Token item = lexer_.peek();
+            if (!is_one_of(item.text, kTransformItems)) break;
+            lexer_.take();
+            m = compose(m, item);
+        }
+        transform.world_from_object = m;
+        const Token next = lexer_.peek();
+        if (next.is("}")) fail(next, "Transform has no object: expected an object before '}'");
+        if (next.is_end()) fail_unclosed(next, keyword);
+        if (!is_one_of(next.text, kObjectKeywords)) {
+            std::vector<std::string> candidates = to_strings(kObjectKeywords);
+            for (const char* item : kTransformItems) candidates.push_back(item);
+            fail(next, "unknown transform item or object " + quote_token(next.text) + suggestion(next.text, candidates));
+        }
+        transform.children.push_back(parse_object(lexer_.take()));
+        const Token close = lexer_.take();
+        if (close.is_end()) fail_unclosed(close, keyword);
+        if (!close.is("}"))
+            fail(close, "a Transform holds exactly one object: expected '}', got " + describe(close));
+        return transform;
+    }
+
+    // Applies one transform item. The course composes M <- M·T, so the item listed last acts on
+    // the object first; Matrix4f (and MIT's Matrix) compose on the other side, M <- T·M.
+    Mat4 compose(const Mat4& m, const Token& item) {
+        if (item.is("Scale")) {
+            const Token value = lexer_.peek();
+            const Vec3f s = read_vec3("Scale");
+            if (s.x == 0 || s.y == 0 || s.z == 0)
+                fail(value, "a Scale factor of 0 squashes the object flat: the transform could not be inverted");
+            return m * Mat4::scale(s);
+        }
+        if (item.is("UniformScale")) {
+            const Token value = lexer_.peek();
+            const float s = read_float("UniformScale");
+            if (s == 0) fail(value, "UniformScale 0 squashes the object to a point: the transform could not be inverted");
+            return m * Mat4::scale({s, s, s});
+        }
+        if (item.is("Translate")) return m * Mat4::translate(read_vec3("Translate"));
+        if (item.is("XRotate")) return m * Mat4::rotate_x(read_float("XRotate"));
+        if (item.is("YRotate")) return m * Mat4::rotate_y(read_float("YRotate"));
+        if (item.is("ZRotate")) return m * Mat4::rotate_z(read_float("ZRotate"));
+        if (item.is("Rotate")) {
+            expect_open(item);
+            const Token axis_token = lexer_.peek();
+            const Vec3f axis = read_vec3("Rotate");
+            const float degrees = read_float("Rotate");
+            const Token close = lexer_.take();
+            if (!close.is("}")) fail(close, "expected '}' after 'Rotate { x y z degrees', got " + describe(close));
+            if (dot(axis, axis) == 0) fail(axis_token, "the 'Rotate' axis must not be the zero vector");
+            return m * Mat4::rotate(axis, degrees);
+        }
+        // Matrix4f lists columns (the course's port onto a column-major class); Matrix lists rows.
+        expect_open(item);
+        const Token first_value = lexer_.peek();
+        float values[16];
+        for (float& v : values) v = read_float(item.text);
+        const Token close = lexer_.take();
+        if (!close.is("}"))
+            fail(close, "expected '}' after the 16 numbers of " + quote_token(item.text) + ", got " + describe(close));
+        const Mat4 file_matrix = item.is("Matrix4f") ? Mat4::from_columns(values) : Mat4::from_rows(values);
+        if (determinant(file_matrix) == 0)
+            fail(first_value, quote_token(item.text) + " is singular (its determinant is 0): it cannot be inverted");
+        return file_matrix * m;
+    }
+
+    Lexer lexer_;
+    SceneDesc desc_;
+    std::vector<Diagnostic> diagnostics_;
+    int error_count_ = 0;
+    int current_material_ = -1;
+    int nesting_ = 0;
+};
+
+}  // namespace
+
+SceneDesc parse_scene(std::string_view text, const std::string& file_name) {
+    return Parser(text, file_name).parse();
+}
+
+}  // namespace raycast
