@@ -1,0 +1,46 @@
+// Images in memory: the float image the renderer fills, and the 8-bit image that files hold.
+// Both store row y = 0 first, and y = 0 is the bottom row of the picture (the course's layout).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "base/limits.h"  // kMaxImageSide, kMaxImagePixels: the largest image read or written
+#include "math/vec.h"
+
+namespace raycast {
+
+/// Linear RGB floats, one Vec3f per pixel, pixel (x, y) at index y·width + x.
+struct Image {
+    int width = 0, height = 0;
+    std::vector<Vec3f> pixels;
+
+    Image() = default;
+    Image(int w, int h) : width(w), height(h), pixels(static_cast<size_t>(w) * static_cast<size_t>(h)) {}
+    Vec3f& at(int x, int y) { return pixels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)]; }
+    const Vec3f& at(int x, int y) const {
+        return pixels[static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)];
+    }
+};
+
+/// 8 bits per channel, RGB interleaved, pixel (x, y) at byte 3·(y·width + x).
+struct ImageRgb8 {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;
+
+    ImageRgb8() = default;
+    ImageRgb8(int w, int h) : width(w), height(h), rgb(3 * static_cast<size_t>(w) * static_cast<size_t>(h)) {}
+    uint8_t* at(int x, int y) { return &rgb[3 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x))]; }
+    const uint8_t* at(int x, int y) const {
+        return &rgb[3 * (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x))];
+    }
+};
+
+/// The course's conversion of a channel to 8 bits: clamp to [0, 1], then truncate c·255
+/// (not round). NaN becomes 0, so no image ever holds a value from a NaN.
+uint8_t to_byte(float c);
+
+/// Converts every pixel with to_byte.
+ImageRgb8 quantize(const Image& image);
+
+}  // namespace raycast
