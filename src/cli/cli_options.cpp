@@ -1,0 +1,324 @@
+#include "cli/cli_options.h"
+
+#include <cstdlib>
+#include <cstring>
+
+#include "base/error.h"
+#include "base/limits.h"
+#include "base/parse_number.h"
+
+namespace raycast {
+
+std::string usage_text() {
+    return R"(usage: raycast [options] SCENE OUTPUT
+       raycast -input SCENE -size W H -output FILE [-depth NEAR FAR FILE] [-normals FILE]
+               [-shade_back] [-specular_fix] [-shadows]
+       raycast compare A B [--diff DIFF]
+       raycast merge -o OUTPUT PIECE...
+
+Renders SCENE (the course's scene format, or MIT 6.837's) into OUTPUT. The image format follows
+OUTPUT's extension: .bmp, .ppm, .tga, or .png (when built with libpng).
+
+Options:
+  -h, --help                 show this help and exit
+      --version              show the version and exit
+  -j, --threads N            render on N threads (default: all hardware threads)
+      --size WxH             image size, replacing the camera's width and height
+      --stats                print one line of timings and counts: load, build and render
+                             milliseconds, rays, Mrays/s, triangles, threads
+  -q, --quiet                no warnings, no progress bar
+      --conventions NAME     course (default with this form) or mit6837 (default with -input)
+      --fov vertical|both    for width != height: angle spans the height and pixels are square
+                             (vertical, the default), or angle spans both axes (both)
+      --mode MODE            shaded (default), normals, depth, material or cost
+      --depth FILE           also write a depth image (grey: near white, far black)
+      --normals FILE         also write a normals image (|n| per channel)
+      --depth-range NEAR,FAR distances mapped to white and black in depth images
+                             (default: the nearest and farthest visible hits)
+      --spp N                N samples per pixel, stratified (default 1: the course's image)
+      --shadows              cast shadow rays towards every light
+      --aperture D           thin-lens camera with a lens D wide (depth of field)
+      --focus-distance F     distance that stays sharp (default: what the image centre sees)
+      --crop X0,Y0,X1,Y1     render only columns X0..X1-1 and rows Y0..Y1-1 (row 0 at the top)
+      --shade-back           light back faces as front faces (MIT: -shade_back)
+      --specular-fix         MIT: multiply the specular term by N.L (MIT: -specular_fix)
+      --tile N               tile size in pixels (default 16)
+      --simd ISA             trace primary rays in SIMD packets of avx512, avx2, sse2 or
+                             portable, or none (one ray at a time); default auto, the
+                             widest this CPU runs. The image is the same with every choice.
+      --no-packets           the same as --simd none
+
+Exit status: 0 success, 1 input or output error, 2 usage error.
+)";
+}
+
+namespace {
+
+[[noreturn]] void usage_error(const std::string& message) { throw UsageError(message); }
+
+int parse_positive_int(const std::string& text, const std::string& what, int64_t limit) {
+    int64_t value = 0;
+    const char* first = text.c_str();
+    const char* last = first + text.size();
+    const NumberResult result = parse_int(first, last, value);
+    if (result.status != NumberStatus::Ok || result.end != last)
+        usage_error(what + " needs a whole number, got '" + text + "'");
+    if (value < 1) usage_error(what + " must be at least 1, got " + text);
+    if (value > limit) usage_error(what + " must be at most " + std::to_string(limit) + ", got " + text);
+    return static_cast<int>(value);
+}
+
+float parse_number(const std::string& text, const std::string& what) {
+    float value = 0;
+    const char* first = text.c_str();
+    const char* last = first + text.size();
+    const NumberResult result = parse_float(first, last, value);
+    if (result.status != NumberStatus::Ok || result.end != last)
+        usage_error(what + " needs a number, got '" + text + "'");
+    return value;
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    size_t start = 0;
+    for (;;) {
+        const size_t end = text.find(separator, start);
+        parts.push_back(text.substr(start, end - start));
+        if (end == std::string::npos) return parts;
+        start = end + 1;
+    }
+}
+
+void parse_size(const std::string& text, const std::string& what, CliOptions& options) {
+    const size_t x = text.find_first_of("xX");
+    if (x == std::string::npos) usage_error(what + " needs WIDTHxHEIGHT, e.g. 640x480, got '" + text + "'");
+    options.width = parse_positive_int(text.substr(0, x), what + " width", kMaxImageSide);
+    options.height = parse_positive_int(text.substr(x + 1), what + " height", kMaxImageSide);
+}
+
+// Walks argv with the current position, for options that take values.
+class Arguments {
+public:
+    Arguments(int argc, const char* const* argv) : argc_(argc), argv_(argv) {}
+    bool done() const { return index_ >= argc_; }
+    std::string next() { return argv_[index_++]; }
+    std::string value_for(const std::string& option) {
+        if (done()) usage_error(option + " needs a value");
+        return next();
+    }
+
+private:
+    int argc_;
+    const char* const* argv_;
+    int index_ = 1;
+};
+
+void check_render_options(CliOptions& options, const std::vector<std::string>& positional, bool conventions_given) {
+    if (options.mit_form) {
+        if (!positional.empty()) usage_error("unexpected argument '" + positional[0] + "' (with -input, name files with -output)");
+        if (options.scene_path.empty()) usage_error("-input SCENE is missing");
+        if (options.output_path.empty() && options.depth_path.empty() && options.normals_path.empty())
+            usage_error("nothing to write: give -output FILE (or -depth NEAR FAR FILE, or -normals FILE)");
+        if (!conventions_given) {
+            const Conventions given = options.conventions;
+            options.conventions = Conventions::mit6837();
+            options.conventions.fov_axis = given.fov_axis;
+            options.conventions.shade_back_faces = given.shade_back_faces;
+            if (given.specular == SpecularModel::BlinnTimesNdotL) options.conventions.specular = given.specular;
+        }
+    } else {
+        if (positional.size() < 2)
+            usage_error(positional.empty() ? "missing SCENE and OUTPUT" : "missing OUTPUT (the image to write)");
+        if (positional.size() > 2) usage_error("unexpected argument '" + positional[2] + "'");
+        options.scene_path = positional[0];
+        options.output_path = positional[1];
+    }
+    if (options.render.has_crop) {
+        const CropWindow& c = options.render.crop;
+        if (c.x0 < 0 || c.y0 < 0 || c.x1 <= c.x0 || c.y1 <= c.y0)
+            usage_error("--crop needs X0 < X1 and Y0 < Y1, all at least 0");
+    }
+}
+
+CropWindow parse_crop(const std::string& text) {
+    const std::vector<std::string> parts = split(text, ',');
+    if (parts.size() != 4) usage_error("--crop needs X0,Y0,X1,Y1, got '" + text + "'");
+    int values[4];
+    for (int i = 0; i < 4; ++i) {
+        int64_t v = 0;
+        const char* first = parts[static_cast<size_t>(i)].c_str();
+        const char* last = first + parts[static_cast<size_t>(i)].size();
+        const NumberResult r = parse_int(first, last, v);
+        if (r.status != NumberStatus::Ok || r.end != last || v < 0 || v > kMaxImageSide)
+            usage_error("--crop needs four whole numbers from 0 to " + std::to_string(kMaxImageSide) + ", got '" + text + "'");
+        values[i] = static_cast<int>(v);
+    }
+    return {values[0], values[1], values[2], values[3]};
+}
+
+}  // namespace
+
+CliOptions parse_command_line(int argc, const char* const* argv) {
+    CliOptions options;
+    if (argc >= 2 && (std::strcmp(argv[1], "compare") == 0 || std::strcmp(argv[1], "merge") == 0)) {
+        const bool compare = std::strcmp(argv[1], "compare") == 0;
+        options.command = compare ? CliOptions::Command::Compare : CliOptions::Command::Merge;
+        for (int i = 2; i < argc; ++i) {
+            const std::string arg = argv[i];
+            if (arg == "-h" || arg == "--help") {
+                options.command = CliOptions::Command::Help;
+                return options;
+            }
+            if (compare && arg == "--diff") {
+                if (++i >= argc) usage_error("--diff needs a file name");
+                options.diff_path = argv[i];
+            } else if (!compare && (arg == "-o" || arg == "--output")) {
+                if (++i >= argc) usage_error(arg + " needs a file name");
+                options.merge_output = argv[i];
+            } else if (arg.size() > 1 && arg[0] == '-') {
+                usage_error("unknown option '" + arg + "' for " + argv[1]);
+            } else {
+                options.inputs.push_back(arg);
+            }
+        }
+        if (compare && options.inputs.size() != 2) usage_error("compare needs two images: raycast compare A B");
+        if (!compare && options.merge_output.empty()) usage_error("merge needs -o OUTPUT");
+        if (!compare && options.inputs.empty()) usage_error("merge needs at least one piece");
+        return options;
+    }
+
+    Arguments args(argc, argv);
+    std::vector<std::string> positional;
+    bool conventions_given = false;
+    while (!args.done()) {
+        const std::string arg = args.next();
+        if (arg == "-h" || arg == "--help") {
+            options.command = CliOptions::Command::Help;
+            return options;
+        }
+        if (arg == "--version") {
+            options.command = CliOptions::Command::Version;
+            return options;
+        }
+        // MIT 6.837's flags.
+        if (arg == "-input") {
+            options.mit_form = true;
+            options.scene_path = args.value_for(arg);
+        } else if (arg == "-size") {
+            options.mit_form = true;
+            options.width = parse_positive_int(args.value_for(arg), "-size width", kMaxImageSide);
+            options.height = parse_positive_int(args.value_for(arg), "-size height", kMaxImageSide);
+        } else if (arg == "-output") {
+            options.mit_form = true;
+            options.output_path = args.value_for(arg);
+        } else if (arg == "-depth") {
+            options.mit_form = true;
+            options.render.depth_near = parse_number(args.value_for("-depth NEAR FAR FILE"), "-depth NEAR");
+            options.render.depth_far = parse_number(args.value_for("-depth NEAR FAR FILE"), "-depth FAR");
+            options.depth_path = args.value_for("-depth NEAR FAR FILE");
+        } else if (arg == "-normals") {
+            options.mit_form = true;
+            options.normals_path = args.value_for(arg);
+        } else if (arg == "-shade_back" || arg == "--shade-back") {
+            options.conventions.shade_back_faces = true;
+        } else if (arg == "-specular_fix" || arg == "--specular-fix") {
+            options.conventions.specular = SpecularModel::BlinnTimesNdotL;
+        } else if (arg == "-shadows" || arg == "--shadows") {
+            options.render.shadows = true;
+        } else if (arg == "-gui" || arg == "-gouraud") {
+            options.notes.push_back(arg + " is ignored: raycast has no OpenGL preview");
+        } else if (arg == "-tessellation") {
+            args.value_for(arg);
+            args.value_for(arg);
+            options.notes.push_back("-tessellation is ignored: raycast has no OpenGL preview");
+        } else if (arg == "-bounces" || arg == "-weight") {
+            args.value_for(arg);
+            options.notes.push_back(arg + " is ignored: reflection and refraction are not implemented yet");
+        }
+        // raycast's own options.
+        else if (arg == "-j" || arg == "--threads") {
+            options.threads = parse_positive_int(args.value_for(arg), arg, 4096);
+        } else if (arg == "--size") {
+            parse_size(args.value_for(arg), arg, options);
+        } else if (arg == "--stats") {
+            options.stats = true;
+        } else if (arg == "-q" || arg == "--quiet") {
+            options.quiet = true;
+        } else if (arg == "--conventions") {
+            const std::string name = args.value_for(arg);
+            const Conventions given = options.conventions;
+            if (name == "course")
+                options.conventions = Conventions::course();
+            else if (name == "mit6837")
+                options.conventions = Conventions::mit6837();
+            else
+                usage_error("--conventions must be course or mit6837, got '" + name + "'");
+            options.conventions.fov_axis = given.fov_axis;
+            options.conventions.shade_back_faces = given.shade_back_faces;
+            if (given.specular == SpecularModel::BlinnTimesNdotL) options.conventions.specular = given.specular;
+            conventions_given = true;
+        } else if (arg == "--fov") {
+            const std::string axis = args.value_for(arg);
+            if (axis == "vertical")
+                options.conventions.fov_axis = FovAxis::Vertical;
+            else if (axis == "both")
+                options.conventions.fov_axis = FovAxis::Both;
+            else
+                usage_error("--fov must be vertical or both, got '" + axis + "'");
+        } else if (arg == "--mode") {
+            const std::string mode = args.value_for(arg);
+            if (mode == "shaded") options.render.mode = RenderMode::Shaded;
+            else if (mode == "normals") options.render.mode = RenderMode::Normals;
+            else if (mode == "depth") options.render.mode = RenderMode::Depth;
+            else if (mode == "material") options.render.mode = RenderMode::Material;
+            else if (mode == "cost") options.render.mode = RenderMode::Cost;
+            else usage_error("--mode must be shaded, normals, depth, material or cost, got '" + mode + "'");
+        } else if (arg == "--depth") {
+            options.depth_path = args.value_for(arg);
+        } else if (arg == "--normals") {
+            options.normals_path = args.value_for(arg);
+        } else if (arg == "--depth-range") {
+            const std::string range = args.value_for(arg);
+            const std::vector<std::string> parts = split(range, ',');
+            if (parts.size() != 2) usage_error("--depth-range needs NEAR,FAR, got '" + range + "'");
+            options.render.depth_near = parse_number(parts[0], "--depth-range NEAR");
+            options.render.depth_far = parse_number(parts[1], "--depth-range FAR");
+            if (!(options.render.depth_far > options.render.depth_near))
+                usage_error("--depth-range needs NEAR < FAR, got '" + range + "'");
+        } else if (arg == "--spp") {
+            options.render.samples_per_pixel = parse_positive_int(args.value_for(arg), arg, 65536);
+        } else if (arg == "--aperture") {
+            options.aperture = parse_number(args.value_for(arg), arg);
+            if (!(options.aperture >= 0)) usage_error("--aperture must not be negative");
+        } else if (arg == "--focus-distance") {
+            options.focus_distance = parse_number(args.value_for(arg), arg);
+            options.has_focus_distance = true;
+            if (!(options.focus_distance > 0)) usage_error("--focus-distance must be positive");
+        } else if (arg == "--crop") {
+            options.render.crop = parse_crop(args.value_for(arg));
+            options.render.has_crop = true;
+        } else if (arg == "--tile") {
+            options.render.tile_size = parse_positive_int(args.value_for(arg), arg, 4096);
+        } else if (arg == "--no-packets") {
+            options.render.packet_isa = PacketIsa::None;
+        } else if (arg == "--simd") {
+            const std::string name = args.value_for(arg);
+            PacketIsa isa = PacketIsa::None;
+            if (name == "auto")
+                isa = best_packet_isa();
+            else if (!packet_isa_from_name(name.c_str(), isa))
+                usage_error("--simd must be auto, avx512, avx2, sse2, portable or none, got '" + name + "'");
+            if (!packet_isa_available(isa))
+                usage_error("--simd " + name + " is not available on this CPU or in this build");
+            options.render.packet_isa = isa;
+        } else if (arg.size() > 1 && arg[0] == '-' && arg != "-") {
+            usage_error("unknown option '" + arg + "'");
+        } else {
+            positional.push_back(arg);
+        }
+    }
+    check_render_options(options, positional, conventions_given);
+    return options;
+}
+
+}  // namespace raycast

@@ -1,0 +1,57 @@
+// The command line: the course's form `raycast SCENE OUTPUT [options]`, MIT 6.837's form
+// `raycast -input SCENE -size W H -output FILE ...`, and the tools `compare` and `merge`.
+// Arguments are read into a CliOptions and then checked as a whole.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "render/render.h"
+#include "scene/conventions.h"
+
+namespace raycast {
+
+/// A mistake on the command line: the program prints it with a hint and exits with status 2.
+class UsageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct CliOptions {
+    enum class Command { Render, Compare, Merge, Help, Version };
+    Command command = Command::Render;
+
+    // render
+    std::string scene_path;
+    std::string output_path;   ///< the shaded image; may be empty in MIT form when only -depth/-normals are asked
+    std::string depth_path;    ///< extra depth image (-depth NEAR FAR FILE, or --depth FILE)
+    std::string normals_path;  ///< extra normals image (-normals FILE, or --normals FILE)
+    bool mit_form = false;
+    int width = 0, height = 0;  ///< 0: the camera's own size
+    int threads = 0;            ///< 0: every hardware thread
+    bool stats = false;
+    bool quiet = false;
+    Conventions conventions;
+    RenderOptions render;       ///< mode, samples, shadows, crop, depth range, packets, tile size
+    float aperture = 0;         ///< thin-lens diameter in world units; 0 is a pinhole
+    float focus_distance = 0;   ///< 0: the distance to the point the camera looks at… (see --help)
+    bool has_focus_distance = false;
+
+    // compare
+    std::vector<std::string> inputs;  ///< compare: A B; merge: the pieces
+    std::string diff_path;
+
+    // merge
+    std::string merge_output;
+
+    std::vector<std::string> notes;  ///< things worth telling the user (ignored MIT GUI flags)
+};
+
+/// Reads the arguments (argv[0] is the program). Throws UsageError.
+CliOptions parse_command_line(int argc, const char* const* argv);
+
+/// The text of --help.
+std::string usage_text();
+
+}  // namespace raycast

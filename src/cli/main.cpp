@@ -1,0 +1,245 @@
+// raycast's command-line program: the only place that reads argv, prints, and picks exit codes
+// (0 success, 1 input or output error, 2 usage error).
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <new>
+
+#include "base/error.h"
+#include "base/parallel.h"
+#include "base/timer.h"
+#include "cli/cli_options.h"
+#include "image/compare_images.h"
+#include "image/image_io.h"
+#include "render/render.h"
+#include "scene/build_scene.h"
+#include "scene/intersect_packet.h"
+#include "sceneio/load_scene.h"
+
+#ifndef RAYCAST_VERSION
+#define RAYCAST_VERSION "dev"
+#endif
+
+namespace raycast {
+namespace {
+
+constexpr int kExitInputError = 1;
+constexpr int kExitUsageError = 2;
+
+void print_diagnostics(const std::vector<Diagnostic>& diagnostics) {
+    for (const Diagnostic& d : diagnostics) std::fputs(format_diagnostic(d).c_str(), stderr);
+}
+
+std::string folder_of(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? std::string(".") : (slash == 0 ? std::string("/") : path.substr(0, slash));
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+    struct stat sa, sb;
+    return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+// Checks an output path before any work is done, so a long render never ends in "cannot write".
+void check_output_path(const std::string& path, const std::string& scene_path) {
+    if (path.empty()) return;
+    if (!image_format_for_path(path)) {
+        const size_t dot = path.find_last_of('.');
+        const size_t slash = path.find_last_of('/');
+        if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+            throw UsageError("cannot tell the image format of '" + path + "': name it .bmp, .ppm, .tga or .png");
+        throw UsageError("unknown image format '" + path.substr(dot) + "' for '" + path + "': use .bmp, .ppm, .tga or .png");
+    }
+    if (path == scene_path || same_file(path, scene_path))
+        throw UsageError("the output '" + path + "' is the scene file itself: choose another name");
+    if (*image_format_for_path(path) == ImageFormat::Png && !png_supported())
+        throw InputError(path, "PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
+    struct stat info;
+    if (::stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
+        throw InputError(path, "cannot write image: it is a directory");
+    const std::string folder = folder_of(path);
+    if (::stat(folder.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
+        throw InputError(path, "cannot write image: the folder '" + folder + "' does not exist");
+    if (::access(folder.c_str(), W_OK) != 0)
+        throw InputError(path, "cannot write image: the folder '" + folder + "' is not writable: " + std::strerror(errno));
+}
+
+// A progress bar on stderr, shown only on a terminal and only for renders that last.
+class ProgressBar {
+public:
+    explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(2)) {}
+    ~ProgressBar() {
+        if (shown_) std::fputs("\r\033[K", stderr);
+    }
+    void update(double fraction) {
+        if (!enabled_ || timer_.elapsed_ms() < 1000) return;
+        const int percent = static_cast<int>(fraction * 100);
+        int last = last_percent_.load();
+        if (percent <= last || !last_percent_.compare_exchange_strong(last, percent)) return;
+        constexpr int kWidth = 40;
+        const int filled = percent * kWidth / 100;
+        std::fprintf(stderr, "\rrendering [%.*s%*s] %3d%%", filled, "========================================",
+                     kWidth - filled, "", percent);
+        std::fflush(stderr);
+        shown_ = true;
+    }
+
+private:
+    bool enabled_;
+    Timer timer_;
+    std::atomic<int> last_percent_{-1};
+    std::atomic<bool> shown_{false};
+};
+
+// Focus a thin lens on whatever the image centre sees (or 1 unit away if it sees nothing).
+float auto_focus_distance(const Scene& scene) {
+    const Camera& camera = scene.camera;
+    const Ray ray = camera_ray(camera, camera.cx, camera.cy);
+    Hit hit;
+    intersect(scene, ray, camera.t_min, hit);
+    if (!hit.is_hit() || !(hit.t > 0)) return 1.0f;
+    return hit.t * dot(ray.direction, camera.direction);
+}
+
+int run_render(const CliOptions& options) {
+    const int threads = options.threads > 0 ? options.threads : hardware_threads();
+    for (const std::string& path : {options.output_path, options.depth_path, options.normals_path})
+        check_output_path(path, options.scene_path);
+    if (!options.quiet)
+        for (const std::string& note : options.notes) std::fprintf(stderr, "raycast: note: %s\n", note.c_str());
+
+    Timer load_timer;
+    SceneLoadOptions load_options;
+    load_options.threads = threads;
+    SceneDesc desc = load_scene_file(options.scene_path, load_options);
+    const double load_ms = load_timer.elapsed_ms();
+    if (!options.quiet) print_diagnostics(desc.warnings);
+
+    Timer build_timer;
+    SceneBuildOptions build_options;
+    build_options.width = options.width;
+    build_options.height = options.height;
+    build_options.conventions = options.conventions;
+    build_options.threads = threads;
+    const std::string scene_file = desc.file;
+    Scene scene = build_scene(std::move(desc), build_options);
+    const double build_ms = build_timer.elapsed_ms();
+    if (options.aperture > 0) {
+        scene.camera.lens_radius = options.aperture / 2;
+        scene.camera.focus_distance = options.has_focus_distance ? options.focus_distance : auto_focus_distance(scene);
+    }
+    if (!options.quiet && scene.lights.empty() && scene.ambient == Vec3f{0, 0, 0} &&
+        options.render.mode == RenderMode::Shaded)
+        std::fprintf(stderr, "%s: warning: the scene has no lights and no ambient light: every object will be black\n",
+                     scene_file.c_str());
+
+    RenderOptions render = options.render;
+    render.threads = threads;
+    if (render.has_crop) {
+        const CropWindow& c = render.crop;
+        if (c.x1 > scene.camera.width || c.y1 > scene.camera.height)
+            throw UsageError(string_printf("--crop %d,%d,%d,%d reaches outside the %dx%d image", c.x0, c.y0, c.x1, c.y1,
+                                           scene.camera.width, scene.camera.height));
+    }
+    ProgressBar progress(!options.quiet);
+    render.progress = [&progress](double fraction) { progress.update(fraction); };
+
+    struct Output {
+        const std::string& path;
+        RenderMode mode;
+    };
+    RenderStats total;
+    double render_ms = 0;
+    for (const Output& output : {Output{options.output_path, render.mode}, Output{options.depth_path, RenderMode::Depth},
+                                 Output{options.normals_path, RenderMode::Normals}}) {
+        if (output.path.empty()) continue;
+        RenderOptions pass = render;
+        pass.mode = output.mode;
+        RenderStats stats;
+        const Image image = render_image(scene, pass, &stats);
+        write_image(output.path, quantize(image));
+        if (total.rays == 0) total = stats;  // --stats describes the first image written
+        render_ms += stats.milliseconds;
+    }
+    if (options.stats) {
+        const double mrays = total.milliseconds > 0 ? static_cast<double>(total.rays) / (total.milliseconds * 1000) : 0;
+        std::printf("raycast-stats load_ms=%.3f build_ms=%.3f render_ms=%.3f rays=%llu mrays_per_s=%.3f "
+                    "triangles=%zu threads=%d hit_fraction=%.4f traversal=%s\n",
+                    load_ms, build_ms, render_ms, static_cast<unsigned long long>(total.rays), mrays,
+                    scene.triangle_count(), threads,
+                    total.rays ? static_cast<double>(total.hits) / static_cast<double>(total.rays) : 0.0,
+                    total.traversal.c_str());
+    }
+    return 0;
+}
+
+int run_compare(const CliOptions& options) {
+    const ImageRgb8 a = read_image(options.inputs[0]);
+    const ImageRgb8 b = read_image(options.inputs[1]);
+    if (a.width != b.width || a.height != b.height)
+        throw InputError(options.inputs[1], string_printf("cannot compare: it is %dx%d but '%s' is %dx%d", b.width, b.height,
+                                                          options.inputs[0].c_str(), a.width, a.height));
+    if (!options.diff_path.empty()) check_output_path(options.diff_path, options.inputs[0]);
+    const ImageComparison c = compare_images(a, b);
+    std::printf("compared %s and %s (%dx%d)\n", options.inputs[0].c_str(), options.inputs[1].c_str(), a.width, a.height);
+    std::printf("differing pixels: %zu of %zu (%.4f%%)\n", c.differing_pixels, c.pixel_count,
+                c.pixel_count ? 100.0 * static_cast<double>(c.differing_pixels) / static_cast<double>(c.pixel_count) : 0.0);
+    std::printf("pixels off by more than 1 level: %zu\n", c.pixels_beyond(1));
+    std::printf("max error: %d levels\nmean error: %.6f levels\n", c.max_error, c.mean_error);
+    if (std::isinf(c.psnr))
+        std::printf("PSNR: inf (identical)\n");
+    else
+        std::printf("PSNR: %.2f dB\n", c.psnr);
+    if (!options.diff_path.empty()) write_image(options.diff_path, difference_heat_map(a, b));
+    return 0;
+}
+
+int run(int argc, char** argv) {
+    CliOptions options;
+    try {
+        options = parse_command_line(argc, argv);
+    } catch (const UsageError& error) {
+        std::fprintf(stderr, "raycast: usage error: %s\nTry 'raycast --help' for more information.\n", error.what());
+        return kExitUsageError;
+    }
+    try {
+        switch (options.command) {
+            case CliOptions::Command::Help:
+                std::fputs(usage_text().c_str(), stdout);
+                return 0;
+            case CliOptions::Command::Version:
+                std::printf("raycast %s (SIMD packets: %s; PNG: %s)\n", RAYCAST_VERSION,
+                            packet_isa_name(best_packet_isa()), png_supported() ? "yes" : "no");
+                return 0;
+            case CliOptions::Command::Compare:
+                return run_compare(options);
+            case CliOptions::Command::Merge:
+                throw UsageError("merge is not available yet");
+            case CliOptions::Command::Render:
+                return run_render(options);
+        }
+    } catch (const UsageError& error) {
+        std::fprintf(stderr, "raycast: usage error: %s\nTry 'raycast --help' for more information.\n", error.what());
+        return kExitUsageError;
+    } catch (const InputError& error) {
+        print_diagnostics(error.diagnostics());
+        return kExitInputError;
+    } catch (const std::bad_alloc&) {
+        std::fputs("raycast: error: out of memory\n", stderr);
+        return kExitInputError;
+    } catch (const std::exception& error) {
+        std::fprintf(stderr, "raycast: error: %s\n", error.what());
+        return kExitInputError;
+    }
+    return 0;
+}
+
+}  // namespace
+}  // namespace raycast
+
+int main(int argc, char** argv) { return raycast::run(argc, argv); }

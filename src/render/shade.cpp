@@ -1,0 +1,78 @@
+#include "render/shade.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace raycast {
+
+Vec3f reflect_light(const Material& material, SpecularModel model, Vec3f normal, Vec3f to_light, Vec3f to_viewer) {
+    const float n_dot_l = dot(normal, to_light);
+    const Vec3f diffuse = material.diffuse * std::fmax(0.0f, n_dot_l);
+    float specular = 0;
+    switch (model) {
+        case SpecularModel::Phong: {
+            // The handout's formula, term for term: R = 2(L·N)N − L and ks·max(0, V·R)^s, with no
+            // gate on L·N (the course's reference images have none).
+            const Vec3f reflected = 2 * n_dot_l * normal - to_light;
+            specular = std::pow(std::fmax(0.0f, dot(to_viewer, reflected)), material.shininess);
+            break;
+        }
+        case SpecularModel::BlinnClampedByNdotL:
+        case SpecularModel::BlinnTimesNdotL: {
+            const Vec3f half_vector = normalize(to_light + to_viewer);
+            specular = std::pow(std::fmax(0.0f, dot(normal, half_vector)), material.shininess);
+            if (model == SpecularModel::BlinnClampedByNdotL && !(n_dot_l > 0)) specular = 0;
+            if (model == SpecularModel::BlinnTimesNdotL) specular *= std::fmax(0.0f, n_dot_l);
+            break;
+        }
+    }
+    return diffuse + material.specular * specular;
+}
+
+namespace {
+
+// The float just above |x| in magnitude, minus |x|: one unit in the last place.
+float ulp(float x) {
+    x = std::fabs(x);
+    return std::nextafter(x, INFINITY) - x;
+}
+
+}  // namespace
+
+Vec3f offset_ray_origin(Vec3f position, Vec3f normal, Vec3f side) {
+    // The hit point is o + t·d rounded: its error is a few ulps of the largest of its
+    // coordinates (pbrt-v4 and Mitsuba 3 bound it the same way). Moving by a multiple of that
+    // bound along the normal clears the surface at any scene scale, where a fixed epsilon
+    // is either too small far from the origin or visibly too large in a tiny scene.
+    const float magnitude = std::fmax(std::fabs(position.x), std::fmax(std::fabs(position.y), std::fabs(position.z)));
+    const float distance = 64 * ulp(magnitude) + 1e-30f;
+    const Vec3f n = dot(normal, side) < 0 ? -normal : normal;
+    return position + n * distance;
+}
+
+Vec3f shade(const Scene& scene, const Ray& ray, const Hit& hit, bool shadows) {
+    const SurfacePoint surface = surface_at(scene, ray, hit);
+    const Material& material = scene.materials[surface.material];
+    const Conventions& conventions = scene.conventions;
+    Vec3f normal = surface.normal;
+    const Vec3f to_viewer = normalize(-ray.direction);
+    if (dot(normal, to_viewer) < 0) {
+        if (conventions.shade_back_faces) {
+            normal = -normal;
+        } else if (conventions.black_back_faces) {
+            return {0, 0, 0};
+        }
+    }
+    Vec3f color = scene.ambient * material.diffuse;
+    for (const Light& light : scene.lights) {
+        const Illumination arriving = illuminate(light, surface.position);
+        if (shadows) {
+            const Ray shadow_ray{offset_ray_origin(surface.position, normal, arriving.to_light), arriving.to_light};
+            if (occluded(scene, shadow_ray, 0, arriving.distance)) continue;
+        }
+        color += arriving.color * reflect_light(material, conventions.specular, normal, arriving.to_light, to_viewer);
+    }
+    return color;
+}
+
+}  // namespace raycast
