@@ -39,7 +39,8 @@ Options:
       --shadows              cast shadow rays towards every light
       --aperture D           thin-lens camera with a lens D wide (depth of field)
       --focus-distance F     distance that stays sharp (default: what the image centre sees)
-      --crop X0,Y0,X1,Y1     render only columns X0..X1-1 and rows Y0..Y1-1 (row 0 at the top)
+      --crop X0,Y0,X1,Y1     render only columns X0..X1-1 and rows Y0..Y1-1 (row 0 at the top);
+                             a .ppm output records the window, for 'raycast merge'
       --shade-back           light back faces as front faces (MIT: -shade_back)
       --specular-fix         MIT: multiply the specular term by N.L (MIT: -specular_fix)
       --tile N               tile size in pixels (default 16)
@@ -47,6 +48,9 @@ Options:
                              portable, or none (one ray at a time); default auto, the
                              widest this CPU runs. The image is the same with every choice.
       --no-packets           the same as --simd none
+
+compare prints how A and B differ (pixels, max and mean error, PSNR); --diff writes a heat map.
+merge assembles .ppm pieces written with --crop into the full image, byte-identical to one render.
 
 Exit status: 0 success, 1 input or output error, 2 usage error.
 )";
@@ -169,7 +173,9 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
                 options.command = CliOptions::Command::Help;
                 return options;
             }
-            if (compare && arg == "--diff") {
+            if (arg == "-q" || arg == "--quiet") {
+                options.quiet = true;
+            } else if (compare && arg == "--diff") {
                 if (++i >= argc) usage_error("--diff needs a file name");
                 options.diff_path = argv[i];
             } else if (!compare && (arg == "-o" || arg == "--output")) {

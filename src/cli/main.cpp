@@ -15,6 +15,7 @@
 #include "base/timer.h"
 #include "cli/cli_options.h"
 #include "image/compare_images.h"
+#include "image/crop_pieces.h"
 #include "image/image_io.h"
 #include "render/render.h"
 #include "scene/build_scene.h"
@@ -46,7 +47,8 @@ bool same_file(const std::string& a, const std::string& b) {
 }
 
 // Checks an output path before any work is done, so a long render never ends in "cannot write".
-void check_output_path(const std::string& path, const std::string& scene_path) {
+// `input_what` names the input in the message, e.g. "the scene file".
+void check_output_path(const std::string& path, const std::string& input_path, const char* input_what = "the scene file") {
     if (path.empty()) return;
     if (!image_format_for_path(path)) {
         const size_t dot = path.find_last_of('.');
@@ -55,8 +57,8 @@ void check_output_path(const std::string& path, const std::string& scene_path) {
             throw UsageError("cannot tell the image format of '" + path + "': name it .bmp, .ppm, .tga or .png");
         throw UsageError("unknown image format '" + path.substr(dot) + "' for '" + path + "': use .bmp, .ppm, .tga or .png");
     }
-    if (path == scene_path || same_file(path, scene_path))
-        throw UsageError("the output '" + path + "' is the scene file itself: choose another name");
+    if (path == input_path || same_file(path, input_path))
+        throw UsageError("the output '" + path + "' is " + input_what + " itself: choose another name");
     if (*image_format_for_path(path) == ImageFormat::Png && !png_supported())
         throw InputError(path, "PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
     struct stat info;
@@ -145,6 +147,11 @@ int run_render(const CliOptions& options) {
         if (c.x1 > scene.camera.width || c.y1 > scene.camera.height)
             throw UsageError(string_printf("--crop %d,%d,%d,%d reaches outside the %dx%d image", c.x0, c.y0, c.x1, c.y1,
                                            scene.camera.width, scene.camera.height));
+        // Grey levels from the visible range would differ from piece to piece.
+        const bool depth_image = render.mode == RenderMode::Depth || !options.depth_path.empty();
+        if (depth_image && render.depth_near == 0 && render.depth_far == 0)
+            throw UsageError("--crop with a depth image needs --depth-range NEAR,FAR, so that every piece uses the same "
+                             "grey scale");
     }
     ProgressBar progress(!options.quiet);
     render.progress = [&progress](double fraction) { progress.update(fraction); };
@@ -162,7 +169,13 @@ int run_render(const CliOptions& options) {
         pass.mode = output.mode;
         RenderStats stats;
         const Image image = render_image(scene, pass, &stats);
-        write_image(output.path, quantize(image));
+        if (render.has_crop && image_format_for_path(output.path) == ImageFormat::Ppm) {
+            const CropWindow& c = render.crop;
+            write_crop_piece(output.path, quantize(image),
+                             CropPlacement{c.x0, c.y0, c.x1, c.y1, scene.camera.width, scene.camera.height});
+        } else {
+            write_image(output.path, quantize(image));
+        }
         if (total.rays == 0) total = stats;  // --stats describes the first image written
         render_ms += stats.milliseconds;
     }
@@ -184,7 +197,10 @@ int run_compare(const CliOptions& options) {
     if (a.width != b.width || a.height != b.height)
         throw InputError(options.inputs[1], string_printf("cannot compare: it is %dx%d but '%s' is %dx%d", b.width, b.height,
                                                           options.inputs[0].c_str(), a.width, a.height));
-    if (!options.diff_path.empty()) check_output_path(options.diff_path, options.inputs[0]);
+    if (!options.diff_path.empty()) {
+        check_output_path(options.diff_path, options.inputs[0], "an image being compared");
+        check_output_path(options.diff_path, options.inputs[1], "an image being compared");
+    }
     const ImageComparison c = compare_images(a, b);
     std::printf("compared %s and %s (%dx%d)\n", options.inputs[0].c_str(), options.inputs[1].c_str(), a.width, a.height);
     std::printf("differing pixels: %zu of %zu (%.4f%%)\n", c.differing_pixels, c.pixel_count,
@@ -196,6 +212,16 @@ int run_compare(const CliOptions& options) {
     else
         std::printf("PSNR: %.2f dB\n", c.psnr);
     if (!options.diff_path.empty()) write_image(options.diff_path, difference_heat_map(a, b));
+    return 0;
+}
+
+int run_merge(const CliOptions& options) {
+    for (const std::string& input : options.inputs) check_output_path(options.merge_output, input, "a piece");
+    std::vector<CropPiece> pieces;
+    for (const std::string& input : options.inputs) pieces.push_back(read_crop_piece(input));
+    write_image(options.merge_output, merge_crop_pieces(pieces));
+    if (!options.quiet)
+        std::fprintf(stderr, "raycast: merged %zu pieces into %s\n", pieces.size(), options.merge_output.c_str());
     return 0;
 }
 
@@ -219,7 +245,7 @@ int run(int argc, char** argv) {
             case CliOptions::Command::Compare:
                 return run_compare(options);
             case CliOptions::Command::Merge:
-                throw UsageError("merge is not available yet");
+                return run_merge(options);
             case CliOptions::Command::Render:
                 return run_render(options);
         }

@@ -187,8 +187,9 @@ ImageRgb8 decode_bmp(const std::vector<uint8_t>& bytes, const std::string& name)
 
 // ---- PPM ----
 
-std::vector<uint8_t> encode_ppm(const ImageRgb8& image) {
-    const std::string header = string_printf("P6\n%d %d\n255\n", image.width, image.height);
+std::vector<uint8_t> encode_ppm(const ImageRgb8& image, const std::string& comment = "") {
+    const std::string comment_line = comment.empty() ? std::string() : "# " + comment + "\n";
+    const std::string header = string_printf("P6\n%s%d %d\n255\n", comment_line.c_str(), image.width, image.height);
     std::vector<uint8_t> out(header.begin(), header.end());
     out.reserve(header.size() + image.rgb.size());
     // PPM stores the top row first, and our y = 0 is the bottom row.
@@ -640,7 +641,7 @@ int write_all(int fd, const std::vector<uint8_t>& bytes) {
 }
 
 // Readers of `path` see the old file or the new one, never a partial one, and a failure leaves the old one.
-void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes) {
+void write_file_atomically_impl(const std::string& path, const std::vector<uint8_t>& bytes) {
     const size_t slash = path.rfind('/');
     const std::string directory = slash == std::string::npos ? "" : path.substr(0, slash + 1);
     // Keep the temporary's name within NAME_MAX whatever the file name's length.
@@ -667,7 +668,7 @@ void write_file_atomically(const std::string& path, const std::vector<uint8_t>& 
     }
 }
 
-std::vector<uint8_t> read_file(const std::string& path) {
+std::vector<uint8_t> read_file_impl(const std::string& path) {
     auto cannot_read = [&path](int error) {
         return InputError(path, std::string("cannot read image: ") + std::strerror(error));
     };
@@ -754,11 +755,11 @@ ImageRgb8 decode_image(const std::vector<uint8_t>& bytes, ImageFormat format, co
 void write_image(const std::string& path, const ImageRgb8& image) {
     const ImageFormat format = format_for_writing(path);
     if (format == ImageFormat::Png && !png_supported()) throw InputError(path, kPngUnsupported);
-    write_file_atomically(path, encode_image(image, format));
+    write_file_atomically_impl(path, encode_image(image, format));
 }
 
 ImageRgb8 read_image(const std::string& path) {
-    const std::vector<uint8_t> bytes = read_file(path);
+    const std::vector<uint8_t> bytes = read_file_impl(path);
     const uint8_t bmp[2] = {'B', 'M'}, ppm_binary[2] = {'P', '6'}, ppm_text[2] = {'P', '3'};
     if (starts_with(bytes, bmp, 2)) return decode_bmp(bytes, path);
     if (starts_with(bytes, ppm_binary, 2) || starts_with(bytes, ppm_text, 2)) return decode_ppm(bytes, path);
@@ -770,5 +771,42 @@ ImageRgb8 read_image(const std::string& path) {
                      "unknown image format: the file is not a BMP, PPM or PNG image, and only names ending in "
                      ".tga are read as TGA");
 }
+
+std::vector<uint8_t> encode_ppm_with_comment(const ImageRgb8& image, const std::string& comment) {
+    if (comment.find_first_of("\r\n") != std::string::npos)
+        throw std::invalid_argument("encode_ppm_with_comment: the comment must be one line");
+    (void)encode_image(image, ImageFormat::Ppm);  // the same size checks as every other image
+    return encode_ppm(image, comment);
+}
+
+std::vector<std::string> ppm_header_comments(const std::vector<uint8_t>& bytes) {
+    std::vector<std::string> comments;
+    if (bytes.size() < 2 || bytes[0] != 'P' || (bytes[1] != '6' && bytes[1] != '3')) return comments;
+    // The header is the magic number and three numbers (width, height, maximum value), with
+    // whitespace and comments anywhere between them.
+    size_t pos = 2;
+    int numbers = 0;
+    while (pos < bytes.size() && numbers < 3) {
+        if (is_ppm_space(bytes[pos])) {
+            ++pos;
+        } else if (bytes[pos] == '#') {
+            const size_t start = ++pos;
+            while (pos < bytes.size() && bytes[pos] != '\n' && bytes[pos] != '\r') ++pos;
+            std::string text(bytes.begin() + static_cast<std::ptrdiff_t>(start), bytes.begin() + static_cast<std::ptrdiff_t>(pos));
+            if (!text.empty() && text[0] == ' ') text.erase(0, 1);
+            comments.push_back(text);
+        } else {
+            while (pos < bytes.size() && !is_ppm_space(bytes[pos]) && bytes[pos] != '#') ++pos;
+            ++numbers;
+        }
+    }
+    return comments;
+}
+
+void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes) {
+    write_file_atomically_impl(path, bytes);
+}
+
+std::vector<uint8_t> read_file_bytes(const std::string& path) { return read_file_impl(path); }
 
 }  // namespace raycast

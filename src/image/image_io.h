@@ -37,4 +37,19 @@ void write_image(const std::string& path, const ImageRgb8& image);
 /// Throws InputError(path, message).
 ImageRgb8 read_image(const std::string& path);
 
+/// A binary PPM whose header holds `comment` (one line) as a `# comment` line: how `--crop`
+/// records where a piece sits in the full frame. Throws std::invalid_argument like encode_image.
+std::vector<uint8_t> encode_ppm_with_comment(const ImageRgb8& image, const std::string& comment);
+
+/// The comments in a PPM file's header (the text after '#' and one space), in order; empty for
+/// anything that is not a PPM file.
+std::vector<std::string> ppm_header_comments(const std::vector<uint8_t>& bytes);
+
+/// The atomic write that write_image uses (temporary file, fsync, rename), for bytes already encoded.
+/// Throws InputError(path, "cannot write image: ...").
+void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes);
+
+/// A whole file's bytes. Throws InputError(path, "cannot read image: ...").
+std::vector<uint8_t> read_file_bytes(const std::string& path);
+
 }  // namespace raycast
