@@ -93,11 +93,21 @@ std::vector<std::string> split(const std::string& text, char separator) {
     }
 }
 
+// Each side is checked on its own as it is read; the total keeps the image's memory sane too.
+void check_pixel_count(const std::string& what, const CliOptions& options) {
+    const int64_t pixels = int64_t{options.width} * options.height;
+    if (pixels > kMaxImagePixels)
+        usage_error(string_printf("%s %dx%d has %lld pixels, more than raycast's limit of %lld (8192x8192)", what.c_str(),
+                                  options.width, options.height, static_cast<long long>(pixels),
+                                  static_cast<long long>(kMaxImagePixels)));
+}
+
 void parse_size(const std::string& text, const std::string& what, CliOptions& options) {
     const size_t x = text.find_first_of("xX");
     if (x == std::string::npos) usage_error(what + " needs WIDTHxHEIGHT, e.g. 640x480, got '" + text + "'");
     options.width = parse_positive_int(text.substr(0, x), what + " width", kMaxImageSide);
     options.height = parse_positive_int(text.substr(x + 1), what + " height", kMaxImageSide);
+    check_pixel_count(what, options);
 }
 
 // Walks argv with the current position, for options that take values.
@@ -214,6 +224,7 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             options.mit_form = true;
             options.width = parse_positive_int(args.value_for(arg), "-size width", kMaxImageSide);
             options.height = parse_positive_int(args.value_for(arg), "-size height", kMaxImageSide);
+            check_pixel_count("-size", options);
         } else if (arg == "-output") {
             options.mit_form = true;
             options.output_path = args.value_for(arg);
