@@ -209,8 +209,12 @@ private:
             if (field == fields.end()) {
                 std::vector<std::string> names;
                 for (const Field& f : fields) names.push_back(f.name);
-                fail(token, "unknown field " + quote_token(token.text) + " in " + std::string(block.text) +
-                                suggestion(token.text, names));
+                error(token, "unknown field " + quote_token(token.text) + " in " + std::string(block.text) +
+                                 suggestion(token.text, names));
+                // Keep the block (a typo in one field must not lose the whole material or object):
+                // skip the field's values, and any block it opens, up to the next known field.
+                skip_unknown_field(fields);
+                continue;
             }
             if (field->seen) fail(token, "duplicate field " + quote_token(token.text) + " in " + std::string(block.text));
             field->seen = true;
@@ -219,6 +223,19 @@ private:
         for (const Field& f : fields)
             if (f.required && !f.seen) error(close, std::string(block.text) + " is missing " + quote_token(f.name));
         return close;
+    }
+
+    void skip_unknown_field(const std::vector<Field>& fields) {
+        const int depth = lexer_.depth();
+        while (!lexer_.peek().is_end()) {
+            const Token& next = lexer_.peek();
+            if (lexer_.depth() == depth) {
+                if (next.is("}")) return;
+                const bool known = std::any_of(fields.begin(), fields.end(), [&](const Field& f) { return next.is(f.name); });
+                if (known) return;
+            }
+            lexer_.take();
+        }
     }
 
     // ---- top level ----------------------------------------------------------------------------
