@@ -86,8 +86,10 @@ NumberResult parse_float(const char* first, const char* last, float& value) {
         if (q != last && (*q == '+' || *q == '-')) exponent_negative = *q++ == '-';
         if (q != last && is_digit(*q)) {
             int64_t exponent = 0;
+            // Saturate far beyond anything the digits before the 'e' can offset (a text would need
+            // 10^15 leading zeros), so a saturated exponent always means overflow or underflow.
             for (; q != last && is_digit(*q); ++q)
-                if (exponent < 100000) exponent = exponent * 10 + (*q - '0');
+                if (exponent < 1000000000000000) exponent = exponent * 10 + (*q - '0');
             decimal_exponent += exponent_negative ? -exponent : exponent;
             p = q;
         }
@@ -120,14 +122,18 @@ NumberResult parse_int(const char* first, const char* last, int64_t& value) {
     bool negative = false;
     if (p != last && (*p == '+' || *p == '-')) negative = *p++ == '-';
     if (p == last || !is_digit(*p)) return {first, NumberStatus::Invalid};
+    // The whole int64_t range: up to 2^63 - 1, or 2^63 when negative.
+    const uint64_t limit = negative ? uint64_t{1} << 63 : (uint64_t{1} << 63) - 1;
     uint64_t magnitude = 0;
     bool overflow = false;
     for (; p != last && is_digit(*p); ++p) {
-        if (magnitude > (uint64_t{1} << 62)) overflow = true;
-        else magnitude = magnitude * 10 + static_cast<uint64_t>(*p - '0');
+        const uint64_t digit = static_cast<uint64_t>(*p - '0');
+        if (overflow || magnitude > (limit - digit) / 10) overflow = true;
+        else magnitude = magnitude * 10 + digit;
     }
-    if (overflow || magnitude > (uint64_t{1} << 62)) return {p, NumberStatus::OutOfRange};
-    value = negative ? -static_cast<int64_t>(magnitude) : static_cast<int64_t>(magnitude);
+    if (overflow) return {p, NumberStatus::OutOfRange};
+    // Negating in unsigned arithmetic keeps -2^63 defined.
+    value = negative ? static_cast<int64_t>(~magnitude + 1) : static_cast<int64_t>(magnitude);
     return {p, NumberStatus::Ok};
 }
 

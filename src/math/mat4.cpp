@@ -37,7 +37,17 @@ Mat4 Mat4::rotate(Vec3f axis, float degrees) {
     // come out with clean zeros and ones.
     const double len = std::sqrt(double(axis.x) * axis.x + double(axis.y) * axis.y + double(axis.z) * axis.z);
     const double x = axis.x / len, y = axis.y / len, z = axis.z / len;
-    const double c = std::cos(radians(degrees)), s = std::sin(radians(degrees)), k = 1 - c;
+    double c = std::cos(radians(degrees)), s = std::sin(radians(degrees));
+    // cos(pi/2) is 6e-17 in double, not 0: a wall turned by 90 degrees would then lean a little,
+    // and a ray parallel to it would hit it far away. Multiples of 90 degrees get exact values.
+    const double turns = double(degrees) / 90;
+    if (turns == std::floor(turns) && std::fabs(turns) < 1e9) {
+        const int quarter = static_cast<int>(std::fmod(turns, 4.0) + 4) % 4;
+        const double exact_cos[4] = {1, 0, -1, 0}, exact_sin[4] = {0, 1, 0, -1};
+        c = exact_cos[quarter];
+        s = exact_sin[quarter];
+    }
+    const double k = 1 - c;
     const double r[3][3] = {{c + x * x * k, x * y * k - z * s, x * z * k + y * s},
                             {y * x * k + z * s, c + y * y * k, y * z * k - x * s},
                             {z * x * k - y * s, z * y * k + x * s, c + z * z * k}};
