@@ -1,0 +1,132 @@
+// Tests for parallel_for (base/parallel.h), which the renderer (tiles), the OBJ loader (chunks)
+// and the BVH builder rely on: every item must be visited exactly once whatever the thread count,
+// worker numbers must stay in [0, threads), the work must really run on several threads, and an
+// exception thrown by one item must reach the caller instead of terminating the program.
+#include "base/parallel.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace raycast {
+namespace {
+
+TEST(ParallelFor, HardwareThreadsIsAtLeastOne) { EXPECT_GE(hardware_threads(), 1); }
+
+TEST(ParallelFor, VisitsEveryItemExactlyOnceForAnyThreadCount) {
+    for (int threads : {1, 2, 3, 8}) {
+        for (size_t count : {size_t{0}, size_t{1}, size_t{1000}}) {
+            SCOPED_TRACE("threads " + std::to_string(threads) + ", count " + std::to_string(count));
+            std::vector<std::atomic<int>> visits(count);
+            for (auto& v : visits) v = 0;
+            std::atomic<int> bad_worker{0};
+            std::atomic<size_t> calls{0};
+            parallel_for(count, threads, [&](size_t item, int worker) {
+                ++calls;
+                if (worker < 0 || worker >= threads) ++bad_worker;
+                ASSERT_LT(item, count);
+                ++visits[item];
+            });
+            EXPECT_EQ(calls.load(), count);
+            EXPECT_EQ(bad_worker.load(), 0);
+            for (size_t i = 0; i < count; ++i) ASSERT_EQ(visits[i].load(), 1) << "item " << i;
+        }
+    }
+}
+
+TEST(ParallelFor, OneThreadRunsInOrderOnTheCallersThread) {
+    const std::thread::id caller = std::this_thread::get_id();
+    std::vector<size_t> order;
+    bool other_thread = false;
+    parallel_for(50, 1, [&](size_t item, int worker) {
+        EXPECT_EQ(worker, 0);
+        other_thread |= std::this_thread::get_id() != caller;
+        order.push_back(item);
+    });
+    EXPECT_FALSE(other_thread);
+    ASSERT_EQ(order.size(), 50u);
+    for (size_t i = 0; i < order.size(); ++i) EXPECT_EQ(order[i], i);
+}
+
+TEST(ParallelFor, RunsItemsOnDistinctWorkersAtTheSameTime) {
+    // Each of 4 items waits until all 4 have started. A worker claims one item at a time, so this
+    // only completes if 4 workers run at once, each with its own worker number. The wait has a
+    // generous deadline only so that a broken implementation fails instead of hanging.
+    constexpr int kThreads = 4;
+    std::mutex mutex;
+    std::condition_variable all_started;
+    int started = 0;
+    bool timed_out = false;
+    std::set<int> workers;
+    std::set<std::thread::id> thread_ids;
+    parallel_for(kThreads, kThreads, [&](size_t, int worker) {
+        std::unique_lock<std::mutex> lock(mutex);
+        ++started;
+        workers.insert(worker);
+        thread_ids.insert(std::this_thread::get_id());
+        all_started.notify_all();
+        if (!all_started.wait_for(lock, std::chrono::seconds(30), [&] { return started == kThreads; }))
+            timed_out = true;
+    });
+    EXPECT_FALSE(timed_out);
+    EXPECT_EQ(workers, (std::set<int>{0, 1, 2, 3}));
+    EXPECT_EQ(thread_ids.size(), 4u);
+}
+
+TEST(ParallelFor, RethrowsAnExceptionFromATaskInTheCaller) {
+    for (int threads : {1, 2, 3, 8}) {
+        SCOPED_TRACE("threads " + std::to_string(threads));
+        std::atomic<size_t> calls{0};
+        try {
+            parallel_for(1000, threads, [&](size_t item, int) {
+                ++calls;
+                if (item == 500) throw std::runtime_error("item 500 failed");
+            });
+            ADD_FAILURE() << "no exception reached the caller";
+        } catch (const std::runtime_error& e) {
+            EXPECT_STREQ(e.what(), "item 500 failed");
+        }
+        EXPECT_GE(calls.load(), 1u);
+        EXPECT_LE(calls.load(), 1000u);
+    }
+}
+
+TEST(ParallelFor, OneThreadSkipsTheItemsAfterAFailure) {
+    // Header: if a call throws, the remaining items are skipped. With one thread "remaining" is
+    // exactly the items after the one that threw.
+    std::vector<size_t> seen;
+    EXPECT_THROW(parallel_for(100, 1,
+                              [&](size_t item, int) {
+                                  seen.push_back(item);
+                                  if (item == 10) throw std::logic_error("stop");
+                              }),
+                 std::logic_error);
+    ASSERT_EQ(seen.size(), 11u);
+    EXPECT_EQ(seen.back(), 10u);
+}
+
+TEST(ParallelFor, WhenEveryTaskThrowsExactlyOneExceptionArrives) {
+    int caught = 0;
+    try {
+        parallel_for(64, 8, [](size_t item, int) { throw std::runtime_error("failed " + std::to_string(item)); });
+    } catch (const std::runtime_error& e) {
+        ++caught;
+        EXPECT_EQ(std::string(e.what()).rfind("failed ", 0), 0u) << e.what();
+    }
+    EXPECT_EQ(caught, 1);
+}
+
+TEST(ParallelFor, NonStandardExceptionTypesAreRethrownToo) {
+    EXPECT_THROW(parallel_for(10, 3, [](size_t item, int) { if (item == 3) throw 42; }), int);
+}
+
+}  // namespace
+}  // namespace raycast
