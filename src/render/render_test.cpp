@@ -1,0 +1,844 @@
+// render_image (render/render.h) on small scenes built in code or read with load_scene_text.
+// The image must not depend on how it was made: every SIMD packet width this CPU runs, one ray at
+// a time, any thread count and tile size, a crop window, all give the same pixels, and with one
+// sample per pixel those are exactly camera_ray + intersect + shade per pixel (brute force).
+// Also: supersampling (deterministic, and only edges change), shadows, the debug modes (normals,
+// depth, material, cost) at hand-checked pixels, the background, MIT's pixel centres, and no
+// NaN or infinity even with degenerate geometry.
+#include "render/render.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "render/shade.h"
+#include "scene/build_scene.h"
+#include "sceneio/load_scene.h"
+
+namespace raycast {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Scene building blocks.
+
+ObjectDesc sphere(Vec3f center, float radius, int material = 0) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Sphere;
+    o.sphere = {center, radius};
+    o.material = material;
+    return o;
+}
+
+ObjectDesc plane(Vec3f normal, float offset, int material = 0) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Plane;
+    o.plane = {normal, offset};
+    o.material = material;
+    return o;
+}
+
+ObjectDesc triangle(Vec3f a, Vec3f b, Vec3f c, int material = 0) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Triangle;
+    o.vertices[0] = a;
+    o.vertices[1] = b;
+    o.vertices[2] = c;
+    o.material = material;
+    return o;
+}
+
+ObjectDesc mesh_object(int mesh, int material = 0) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::TriangleMesh;
+    o.mesh = mesh;
+    o.material = material;
+    return o;
+}
+
+ObjectDesc transform(const Mat4& m, ObjectDesc child) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Transform;
+    o.world_from_object = m;
+    o.children.push_back(std::move(child));
+    return o;
+}
+
+ObjectDesc group(std::vector<ObjectDesc> children) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Group;
+    o.children = std::move(children);
+    return o;
+}
+
+MaterialDesc material(Vec3f kd, Vec3f ks = {0, 0, 0}, float shininess = 0) {
+    MaterialDesc m;
+    m.diffuse = kd;
+    m.specular = ks;
+    m.shininess = shininess;
+    return m;
+}
+
+LightDesc directional(Vec3f direction, Vec3f color) {
+    LightDesc l;
+    l.kind = LightDesc::Kind::Directional;
+    l.direction = direction;
+    l.color = color;
+    return l;
+}
+
+LightDesc point_light(Vec3f position, Vec3f color) {
+    LightDesc l;
+    l.kind = LightDesc::Kind::Point;
+    l.position = position;
+    l.color = color;
+    return l;
+}
+
+CameraDesc camera(Vec3f center, Vec3f direction, float angle, int w, int h) {
+    CameraDesc c;
+    c.center = center;
+    c.direction = direction;
+    c.up = {0, 1, 0};
+    c.angle_degrees = angle;
+    c.width = w;
+    c.height = h;
+    return c;
+}
+
+TriangleMesh cube_mesh() {
+    TriangleMesh mesh;
+    mesh.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+    mesh.indices = {4, 5, 6, 4, 6, 7, 0, 2, 1, 0, 3, 2, 1, 2, 6, 1, 6, 5,
+                    0, 4, 7, 0, 7, 3, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4};
+    return mesh;
+}
+
+// A unit sphere of triangles (no degenerate pole triangles) with smooth vertex normals, so that
+// the barycentric u, v of every hit show in the shading.
+TriangleMesh smooth_sphere_mesh(int stacks, int slices) {
+    TriangleMesh mesh;
+    const float pi = 3.14159265f;
+    mesh.positions.push_back({0, 1, 0});
+    for (int i = 1; i < stacks; ++i) {
+        const float theta = pi * static_cast<float>(i) / static_cast<float>(stacks);
+        for (int j = 0; j < slices; ++j) {
+            const float phi = 2 * pi * static_cast<float>(j) / static_cast<float>(slices);
+            mesh.positions.push_back({std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)});
+        }
+    }
+    mesh.positions.push_back({0, -1, 0});
+    const auto ring = [&](int i, int j) { return static_cast<uint32_t>(1 + (i - 1) * slices + (j % slices)); };
+    const uint32_t south = static_cast<uint32_t>(mesh.positions.size() - 1);
+    for (int j = 0; j < slices; ++j) {
+        mesh.indices.insert(mesh.indices.end(), {0, ring(1, j + 1), ring(1, j)});
+        for (int i = 1; i + 1 < stacks; ++i)
+            mesh.indices.insert(mesh.indices.end(), {ring(i, j), ring(i, j + 1), ring(i + 1, j + 1), ring(i, j),
+                                                     ring(i + 1, j + 1), ring(i + 1, j)});
+        mesh.indices.insert(mesh.indices.end(), {ring(stacks - 1, j), ring(stacks - 1, j + 1), south});
+    }
+    mesh.normals = mesh.positions;
+    mesh.normal_indices = mesh.indices;
+    return mesh;
+}
+
+// A wavy height field of (n − 1)² quads over [−3, 3]², no normals.
+TriangleMesh terrain_mesh(int n) {
+    TriangleMesh mesh;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const float x = -3 + 6 * static_cast<float>(i) / static_cast<float>(n - 1);
+            const float z = -3 + 6 * static_cast<float>(j) / static_cast<float>(n - 1);
+            mesh.positions.push_back({x, 0.3f * std::sin(2 * x) * std::cos(1.5f * z), z});
+        }
+    const auto at = [n](int i, int j) { return static_cast<uint32_t>(i * n + j); };
+    for (int i = 0; i + 1 < n; ++i)
+        for (int j = 0; j + 1 < n; ++j)
+            mesh.indices.insert(mesh.indices.end(),
+                                {at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    return mesh;
+}
+
+Scene build(SceneDesc desc, Conventions conventions = Conventions::course()) {
+    SceneBuildOptions options;
+    options.conventions = conventions;
+    return build_scene(std::move(desc), options);
+}
+
+// Meshes only: a smooth sphere mesh, the cube twice and a wavy terrain, 37×29 (not a multiple of
+// any packet block), a tilted camera, a point and a directional light, specular highlights.
+Scene mesh_scene() {
+    SceneDesc desc;
+    desc.file = "meshes.txt";
+    desc.camera = camera({1, 2.5f, 8}, {-0.1f, -0.3f, -1}, 35, 37, 29);
+    desc.background = {0.1f, 0.2f, 0.7f};
+    desc.materials = {material({0.8f, 0.6f, 0.4f}, {0.7f, 0.7f, 0.7f}, 20), material({0.2f, 0.7f, 0.3f}),
+                      material({0.5f, 0.5f, 0.9f}, {0.3f, 0.3f, 0.3f}, 4)};
+    desc.lights = {directional({-0.5f, -0.5f, -1}, {0.6f, 0.6f, 0.6f}), point_light({0, 5, 5}, {0.8f, 0.8f, 0.4f})};
+    desc.has_lights_block = true;
+    desc.meshes.push_back({"sphere.obj", smooth_sphere_mesh(12, 16)});
+    desc.meshes.push_back({"cube.obj", cube_mesh()});
+    desc.meshes.push_back({"terrain.obj", terrain_mesh(16)});
+    desc.root = group({mesh_object(0, 0), mesh_object(2, 1),
+                       transform(Mat4::translate({1.8f, 0.2f, 0.5f}) * Mat4::rotate({1, 1, 0}, 30) *
+                                     Mat4::scale({0.5f, 0.5f, 0.5f}),
+                                 mesh_object(1, 2)),
+                       transform(Mat4::translate({-2, 0.6f, -1}) * Mat4::rotate_y(40), mesh_object(1, 2))});
+    return build(std::move(desc));
+}
+
+// Spheres on a floor, as a scene file (scene01 with more colour and a second light).
+const char* const kSpheresText = R"(PerspectiveCamera {
+    center 0 0 10
+    direction 0 0 -1
+    up 0 1 0
+    angle 30
+    width 37
+    height 29
+}
+Lights {
+    numLights 2
+    PointLight { position 0 5 5 color 0.9 0.9 0.9 }
+    DirectionalLight { direction -0.5 -0.3 -1 color 0.3 0.2 0.1 }
+}
+Background { color 0.1 0.7 0.2 }
+Materials {
+    numMaterials 3
+    PhongMaterial { diffuseColor 1 0 0 specularColor 1 1 1 shininess 20 }
+    Material { diffuseColor 0 1 0 }
+    Material { diffuseColor 0 0 1 specularColor 0.5 0.5 0.5 shininess 4 }
+}
+Group {
+    numObjects 6
+    MaterialIndex 0
+    Sphere { center 0 0 0 radius 1 }
+    MaterialIndex 1
+    Sphere { center 1 1 1 radius 0.75 }
+    Sphere { center -1 -1 1 radius 0.75 }
+    MaterialIndex 2
+    Sphere { center -1 1 -1 radius 0.75 }
+    Sphere { center 1 -1 -1 radius 0.75 }
+    Plane { normal 0 1 0 offset -2 }
+}
+)";
+
+Scene spheres_scene(Conventions conventions = Conventions::course()) {
+    return build(load_scene_text(kSpheresText, "spheres.txt"), conventions);
+}
+
+// Transforms of every kind of shape, nested, with one mesh used twice.
+Scene transformed_scene() {
+    SceneDesc desc;
+    desc.file = "transformed.txt";
+    desc.camera = camera({0.5f, 1, 9}, {-0.05f, -0.1f, -1}, 32, 37, 29);
+    desc.background = {0, 0, 0};
+    desc.materials = {material({0.9f, 0.3f, 0.3f}, {1, 1, 1}, 16), material({0.3f, 0.9f, 0.3f}),
+                      material({0.4f, 0.4f, 0.9f}, {0.5f, 0.5f, 0.5f}, 8)};
+    desc.lights = {directional({-0.2f, -0.4f, -0.8f}, {0.8f, 0.8f, 0.8f}), point_light({-3, 4, 4}, {0.4f, 0.4f, 0.4f})};
+    desc.has_lights_block = true;
+    desc.meshes.push_back({"cube.obj", cube_mesh()});
+    desc.meshes.push_back({"sphere.obj", smooth_sphere_mesh(8, 10)});
+    desc.root = group({
+        transform(Mat4::translate({-1.5f, 0.5f, 0}) * Mat4::rotate_z(30) * Mat4::scale({1, 0.3f, 0.6f}),
+                  sphere({0, 0, 0}, 1, 0)),
+        transform(Mat4::translate({1.5f, -0.5f, -1}) * Mat4::rotate({1, 1, 1}, 25) * Mat4::scale({0.6f, 0.6f, 0.6f}),
+                  mesh_object(0, 1)),
+        transform(Mat4::translate({0, 1.5f, -2}) * Mat4::rotate_y(45) * Mat4::scale({0.4f, 1, 0.4f}), mesh_object(0, 2)),
+        transform(Mat4::rotate_x(-10), plane({0, 1, 0}, -1.5f, 1)),
+        transform(Mat4::translate({0.5f, -1, 1}), triangle({0, 0, 0}, {1, 0, 0.2f}, {0.3f, 1, 0}, 0)),
+        transform(Mat4::translate({-1, -1, 1}), transform(Mat4::scale({0.5f, 0.7f, 0.5f}), mesh_object(1, 2))),
+    });
+    return build(std::move(desc));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Helpers.
+
+std::vector<PacketIsa> available_isas() {
+    std::vector<PacketIsa> isas;
+    for (PacketIsa isa : {PacketIsa::None, PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2, PacketIsa::Avx512})
+        if (packet_isa_available(isa)) isas.push_back(isa);
+    return isas;
+}
+
+RenderOptions options_with(PacketIsa isa = best_packet_isa()) {
+    RenderOptions options;
+    options.packet_isa = isa;
+    return options;
+}
+
+// Float images compared bit for bit (NaN-safe), reporting the first difference.
+::testing::AssertionResult same_floats(const Image& a, const Image& b) {
+    if (a.width != b.width || a.height != b.height)
+        return ::testing::AssertionFailure() << "sizes " << a.width << "x" << a.height << " and " << b.width << "x"
+                                             << b.height;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            const Vec3f p = a.at(x, y), q = b.at(x, y);
+            if (std::memcmp(&p, &q, sizeof p) != 0)
+                return ::testing::AssertionFailure() << "pixel (" << x << ", " << y << "): (" << p.x << ", " << p.y
+                                                     << ", " << p.z << ") vs (" << q.x << ", " << q.y << ", " << q.z
+                                                     << ")";
+        }
+    return ::testing::AssertionSuccess();
+}
+
+::testing::AssertionResult same_bytes(const Image& a, const Image& b) {
+    const ImageRgb8 p = quantize(a), q = quantize(b);
+    if (p.width != q.width || p.height != q.height) return ::testing::AssertionFailure() << "sizes differ";
+    for (size_t i = 0; i < p.rgb.size(); ++i)
+        if (p.rgb[i] != q.rgb[i])
+            return ::testing::AssertionFailure() << "byte " << i << " (pixel (" << (i / 3) % static_cast<size_t>(p.width)
+                                                 << ", " << (i / 3) / static_cast<size_t>(p.width)
+                                                 << ")): " << int{p.rgb[i]} << " vs " << int{q.rgb[i]};
+    return ::testing::AssertionSuccess();
+}
+
+// The image as the course's main loop makes it: one ray per pixel, no packets, no tiles.
+Image brute_force(const Scene& scene, bool shadows) {
+    const Camera& cam = scene.camera;
+    Image image(cam.width, cam.height);
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x) {
+            const Ray ray = camera_ray(cam, static_cast<float>(x) + cam.pixel_offset, static_cast<float>(y) + cam.pixel_offset);
+            Hit hit;
+            intersect(scene, ray, cam.t_min, hit);
+            image.at(x, y) = hit.is_hit() ? shade(scene, ray, hit, shadows) : scene.background;
+        }
+    return image;
+}
+
+int count_hits(const Image& image, Vec3f background) {
+    int n = 0;
+    for (const Vec3f& p : image.pixels) n += p != background ? 1 : 0;
+    return n;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The same image whichever way it is made.
+
+TEST(RenderTest, EveryPacketIsaGivesTheSameImageAsSingleRays) {
+    const std::vector<PacketIsa> isas = available_isas();
+    ASSERT_GE(isas.size(), 2u) << "at least None and one packet kernel";
+    EXPECT_TRUE(packet_isa_available(PacketIsa::None));
+    EXPECT_TRUE(packet_isa_available(PacketIsa::Portable));
+    EXPECT_TRUE(packet_isa_available(best_packet_isa()));
+    const Scene scenes[3] = {mesh_scene(), spheres_scene(), transformed_scene()};
+    const char* const names[3] = {"meshes", "spheres", "transformed"};
+    for (int k = 0; k < 3; ++k) {
+        const Scene& scene = scenes[k];
+        for (RenderMode mode : {RenderMode::Shaded, RenderMode::Normals, RenderMode::Depth, RenderMode::Material}) {
+            RenderOptions single = options_with(PacketIsa::None);
+            single.mode = mode;
+            RenderStats stats;
+            const Image reference = render_image(scene, single, &stats);
+            EXPECT_EQ(stats.traversal, "single-ray");
+            // The scene is really in view: a good share of the pixels hit something.
+            EXPECT_GT(stats.hits, stats.rays / 4) << names[k];
+            EXPECT_LT(stats.hits, stats.rays) << names[k];
+            for (PacketIsa isa : isas) {
+                if (isa == PacketIsa::None) continue;
+                RenderOptions packets = options_with(isa);
+                packets.mode = mode;
+                RenderStats packet_stats;
+                const Image image = render_image(scene, packets, &packet_stats);
+                EXPECT_EQ(packet_stats.traversal, std::string("packet-") + packet_isa_name(isa));
+                EXPECT_EQ(packet_stats.hits, stats.hits);
+                EXPECT_TRUE(same_bytes(image, reference))
+                    << names[k] << " " << packet_isa_name(isa) << " mode " << static_cast<int>(mode);
+                EXPECT_TRUE(same_floats(image, reference))
+                    << names[k] << " " << packet_isa_name(isa) << " mode " << static_cast<int>(mode);
+            }
+        }
+    }
+}
+
+TEST(RenderTest, OneSamplePerPixelIsExactlyTheCourseMainLoop) {
+    // Brute force per pixel (camera_ray at the pixel's point, intersect, shade or background)
+    // against the tiled, packeted renderer; samples_per_pixel 1 is also the default.
+    for (const Scene& scene : {mesh_scene(), spheres_scene(), transformed_scene()}) {
+        for (bool shadows : {false, true}) {
+            const Image expected = brute_force(scene, shadows);
+            RenderOptions options;  // defaults: 1 sample, best packets
+            EXPECT_EQ(options.samples_per_pixel, 1);
+            options.shadows = shadows;
+            EXPECT_TRUE(same_floats(render_image(scene, options), expected));
+            options.samples_per_pixel = 1;
+            options.packet_isa = PacketIsa::None;
+            EXPECT_TRUE(same_floats(render_image(scene, options), expected));
+        }
+    }
+}
+
+TEST(RenderTest, ThreadsAndTileSizesDoNotChangeTheImage) {
+    const Scene scenes[2] = {mesh_scene(), transformed_scene()};
+    for (const Scene& scene : scenes)
+        for (int spp : {1, 4}) {
+            RenderOptions options;
+            options.samples_per_pixel = spp;
+            options.shadows = true;
+            options.threads = 1;
+            options.tile_size = 16;
+            RenderStats reference_stats;
+            const Image reference = render_image(scene, options, &reference_stats);
+            for (int threads : {1, 2, 3})
+                for (int tile : {1, 7, 16, 64}) {
+                    options.threads = threads;
+                    options.tile_size = tile;
+                    RenderStats stats;
+                    EXPECT_TRUE(same_floats(render_image(scene, options, &stats), reference))
+                        << "threads " << threads << " tile " << tile << " spp " << spp;
+                    EXPECT_EQ(stats.threads, threads);
+                    EXPECT_EQ(stats.rays, reference_stats.rays);
+                    EXPECT_EQ(stats.rays, static_cast<uint64_t>(37 * 29 * spp));
+                    EXPECT_EQ(stats.hits, reference_stats.hits);
+                }
+        }
+}
+
+TEST(RenderTest, CropWindowGivesTheSamePixelsAsTheFullRender) {
+    const Scene scene = transformed_scene();
+    const int w = 37, h = 29;
+    // CropWindow rows count from the top: rows [3, 11) from the top are rows [18, 26) of the
+    // bottom-up image (29 − 11 = 18).
+    const CropWindow windows[3] = {{5, 3, 20, 11}, {0, 0, w, h}, {w - 1, 0, w, 1}};
+    for (RenderMode mode : {RenderMode::Shaded, RenderMode::Normals, RenderMode::Cost})
+        for (int spp : {1, 4}) {
+            RenderOptions options;
+            options.mode = mode;
+            options.samples_per_pixel = spp;
+            options.tile_size = 8;
+            options.threads = 2;
+            const Image full = render_image(scene, options);
+            for (const CropWindow& c : windows) {
+                RenderOptions crop = options;
+                crop.has_crop = true;
+                crop.crop = c;
+                RenderStats stats;
+                const Image part = render_image(scene, crop, &stats);
+                ASSERT_EQ(part.width, c.x1 - c.x0);
+                ASSERT_EQ(part.height, c.y1 - c.y0);
+                EXPECT_EQ(stats.rays, static_cast<uint64_t>(part.width * part.height * spp));
+                for (int y = 0; y < part.height; ++y)
+                    for (int x = 0; x < part.width; ++x) {
+                        const Vec3f p = part.at(x, y), q = full.at(c.x0 + x, h - c.y1 + y);
+                        EXPECT_EQ(std::memcmp(&p, &q, sizeof p), 0)
+                            << "crop (" << c.x0 << ", " << c.y0 << ", " << c.x1 << ", " << c.y1 << ") pixel (" << x
+                            << ", " << y << ") mode " << static_cast<int>(mode) << " spp " << spp;
+                    }
+            }
+        }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Supersampling.
+
+// A flat-coloured unit sphere at the origin (kd 0.75 under ambient 1, no lights) on background
+// 0.25, seen from (0, 0, 10) with angle 15 on 20×20. The silhouette on the image plane is a
+// circle around (10, 10) of radius f·r/√(D² − r²) = (10/tan 7.5°)/√99 = 7.6343 pixels.
+Scene flat_sphere_scene() {
+    SceneDesc desc;
+    desc.file = "flat.txt";
+    desc.camera = camera({0, 0, 10}, {0, 0, -1}, 15, 20, 20);
+    desc.background = {0.25f, 0.25f, 0.25f};
+    desc.ambient = Vec3f{1, 1, 1};
+    desc.materials = {material({0.75f, 0.75f, 0.75f})};
+    desc.root = sphere({0, 0, 0}, 1);
+    return build(std::move(desc));
+}
+
+TEST(RenderTest, SupersamplingIsDeterministicAndChangesOnlyEdgePixels) {
+    const Scene scene = flat_sphere_scene();
+    const double radius = (10 / std::tan(7.5 * 3.14159265358979 / 180)) / std::sqrt(99.0);
+    RenderOptions one;
+    const Image single = render_image(scene, one);
+    RenderOptions four;
+    four.samples_per_pixel = 4;
+    const Image multi = render_image(scene, four);
+    // Run to run, and with other threads and tiles, the jitter is the same.
+    EXPECT_TRUE(same_floats(render_image(scene, four), multi));
+    four.threads = 3;
+    four.tile_size = 5;
+    EXPECT_TRUE(same_floats(render_image(scene, four), multi));
+    int mixed = 0;
+    for (int y = 0; y < 20; ++y)
+        for (int x = 0; x < 20; ++x) {
+            const double d = std::hypot(x - 10.0, y - 10.0);
+            const float s = single.at(x, y).x, m = multi.at(x, y).x;
+            // One sample at the pixel's point (x, y): inside the circle or not.
+            if (d < radius - 0.01) {
+                EXPECT_EQ(s, 0.75f) << x << "," << y;
+            }
+            if (d > radius + 0.01) {
+                EXPECT_EQ(s, 0.25f) << x << "," << y;
+            }
+            // Four samples inside [x − ½, x + ½) × [y − ½, y + ½): far from the edge, the same value;
+            // across it, an average of four values of 0.25 or 0.75 (exact in binary).
+            if (d + 0.7072 < radius) {
+                EXPECT_EQ(m, 0.75f) << x << "," << y;
+            }
+            if (d - 0.7072 > radius) {
+                EXPECT_EQ(m, 0.25f) << x << "," << y;
+            }
+            const float quarters = (m - 0.25f) / 0.125f;  // number of hitting samples
+            EXPECT_EQ(quarters, std::round(quarters)) << x << "," << y;
+            if (m != 0.25f && m != 0.75f) {
+                ++mixed;
+                EXPECT_LE(std::fabs(d - radius), 0.7072) << "mixed pixel away from the edge: " << x << "," << y;
+            }
+        }
+    // The circumference is about 48 pixels long: many edge pixels are partly covered.
+    EXPECT_GT(mixed, 15);
+    EXPECT_FALSE(same_floats(single, multi));
+}
+
+TEST(RenderTest, SupersamplingAveragesToTheFlatColourInsideAndOtherCountsWork) {
+    // spp 2, 3 (rows of jittered cells) and 9 (a 3×3 grid) also keep the interior exact.
+    const Scene scene = flat_sphere_scene();
+    for (int spp : {2, 3, 9}) {
+        RenderOptions options;
+        options.samples_per_pixel = spp;
+        const Image image = render_image(scene, options);
+        EXPECT_NEAR(image.at(10, 10).x, 0.75f, 1e-6) << spp;
+        EXPECT_NEAR(image.at(0, 0).x, 0.25f, 1e-6) << spp;
+        EXPECT_TRUE(same_floats(render_image(scene, options), image)) << spp;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shadows.
+
+TEST(RenderTest, PointUnderASphereLitFromAboveIsBlackOnlyWithShadows) {
+    // The floor y = 0 (kd 0.5) and a unit sphere at (0, 2, 0); a point light at (0, 10, 0). The camera
+    // at (0, 3, 8) looks along (0, −3, −8): the centre pixel (10, 10) of 20×20 is that exact ray, and it
+    // passes 1.87 from the sphere's centre, reaching the floor at the origin, right under the sphere.
+    SceneDesc desc;
+    desc.file = "shadow.txt";
+    CameraDesc cam = camera({0, 3, 8}, {0, -3, -8}, 40, 20, 20);
+    desc.camera = cam;
+    desc.background = {0, 0, 0};
+    desc.materials = {material({0.5f, 0.5f, 0.5f})};
+    desc.lights = {point_light({0, 10, 0}, {1, 1, 1})};
+    desc.has_lights_block = true;
+    desc.root = group({plane({0, 1, 0}, 0), sphere({0, 2, 0}, 1)});
+    const Scene scene = build(std::move(desc));
+    RenderOptions lit;
+    RenderOptions shadowed;
+    shadowed.shadows = true;
+    const Image a = render_image(scene, lit), b = render_image(scene, shadowed);
+    // Without shadows: N·L = 1 at the origin, 0.5·1.
+    EXPECT_NEAR(a.at(10, 10).x, 0.5f, 1e-6);
+    EXPECT_EQ(b.at(10, 10), (Vec3f{0, 0, 0}));
+    // Shadows only darken, and only some pixels.
+    int darker = 0, same = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+        EXPECT_LE(b.pixels[i].x, a.pixels[i].x);
+        if (b.pixels[i] == a.pixels[i]) ++same; else ++darker;
+    }
+    EXPECT_GT(darker, 5);
+    EXPECT_GT(same, 200);
+    // Every packet width agrees with shadows too.
+    for (PacketIsa isa : available_isas()) {
+        RenderOptions o = options_with(isa);
+        o.shadows = true;
+        EXPECT_TRUE(same_floats(render_image(scene, o), b)) << packet_isa_name(isa);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Debug modes and background.
+
+// A unit sphere at the origin from (0, 0, 10), angle 15, 20×20: pixel (10, 10) is the axis ray, which
+// meets the sphere at (0, 0, 1) with t = 9 and normal +z.
+Scene axis_sphere_scene() {
+    SceneDesc desc;
+    desc.file = "axis.txt";
+    desc.camera = camera({0, 0, 10}, {0, 0, -1}, 15, 20, 20);
+    desc.background = {0.1f, 0.7f, 0.2f};
+    desc.materials = {material({1, 1, 1})};
+    desc.lights = {directional({0, 0, -1}, {1, 1, 1})};
+    desc.has_lights_block = true;
+    desc.root = sphere({0, 0, 0}, 1);
+    return build(std::move(desc));
+}
+
+// The hit of pixel (x, y) of axis_sphere_scene, solved by hand in double: t and the normal.
+void solve_axis_sphere(int x, int y, double& t, double normal[3]) {
+    const double f = 10 / std::tan(7.5 * 3.14159265358979 / 180);
+    double d[3] = {(x - 10) / f, (y - 10) / f, -1};
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + 1);
+    for (double& c : d) c /= len;
+    // |o + t·d|² = 1 with o = (0, 0, 10): t² + 20·d.z·t + 99 = 0.
+    const double b = 10 * d[2];
+    t = -b - std::sqrt(b * b - 99);
+    normal[0] = t * d[0];
+    normal[1] = t * d[1];
+    normal[2] = 10 + t * d[2];
+}
+
+TEST(RenderTest, NormalsModeShowsTheAbsoluteUnitNormal) {
+    const Scene scene = axis_sphere_scene();
+    RenderOptions options;
+    options.mode = RenderMode::Normals;
+    const Image image = render_image(scene, options);
+    EXPECT_NEAR(image.at(10, 10).x, 0, 1e-6);
+    EXPECT_NEAR(image.at(10, 10).y, 0, 1e-6);
+    EXPECT_NEAR(image.at(10, 10).z, 1, 1e-6);
+    const int pixels[3][2] = {{13, 11}, {5, 14}, {15, 6}};  // all within 7.6 pixels of the centre
+    for (const auto& p : pixels) {
+        double t, n[3];
+        solve_axis_sphere(p[0], p[1], t, n);
+        const Vec3f pixel = image.at(p[0], p[1]);
+        EXPECT_NEAR(pixel.x, std::fabs(n[0]), 1e-5) << p[0] << "," << p[1];
+        EXPECT_NEAR(pixel.y, std::fabs(n[1]), 1e-5) << p[0] << "," << p[1];
+        EXPECT_NEAR(pixel.z, std::fabs(n[2]), 1e-5) << p[0] << "," << p[1];
+    }
+    // Where nothing is hit: black, not the background.
+    EXPECT_EQ(image.at(0, 0), (Vec3f{0, 0, 0}));
+}
+
+TEST(RenderTest, DepthModeMapsTheRangeToGreyNearWhiteFarBlack) {
+    const Scene scene = axis_sphere_scene();
+    RenderOptions options;
+    options.mode = RenderMode::Depth;
+    options.depth_near = 8;
+    options.depth_far = 12;
+    Image image = render_image(scene, options);
+    // t = 9 at the centre: (12 − 9)/(12 − 8) = 0.75.
+    EXPECT_NEAR(image.at(10, 10).x, 0.75f, 1e-6);
+    EXPECT_EQ(image.at(10, 10).x, image.at(10, 10).y);
+    EXPECT_EQ(image.at(10, 10).x, image.at(10, 10).z);
+    double t, n[3];
+    solve_axis_sphere(13, 11, t, n);
+    EXPECT_NEAR(image.at(13, 11).x, (12 - t) / 4, 1e-5);
+    EXPECT_EQ(image.at(0, 0), (Vec3f{0, 0, 0}));
+    // Outside the range the grey clamps: hits beyond far are black, hits nearer than near white.
+    options.depth_near = 1;
+    options.depth_far = 5;
+    image = render_image(scene, options);
+    EXPECT_EQ(image.at(10, 10), (Vec3f{0, 0, 0}));
+    options.depth_near = 20;
+    options.depth_far = 30;
+    image = render_image(scene, options);
+    EXPECT_EQ(image.at(10, 10), (Vec3f{1, 1, 1}));
+    // No range given: that of the visible hits; the nearest (the centre, t = 9) is white.
+    options.depth_near = options.depth_far = 0;
+    image = render_image(scene, options);
+    EXPECT_EQ(image.at(10, 10), (Vec3f{1, 1, 1}));
+    float darkest = 1;
+    for (int y = 0; y < 20; ++y)
+        for (int x = 0; x < 20; ++x)
+            if (std::hypot(x - 10.0, y - 10.0) < 7) darkest = std::min(darkest, image.at(x, y).x);
+    EXPECT_LT(darkest, 0.9f);
+    EXPECT_GE(darkest, 0.0f);
+}
+
+TEST(RenderTest, MaterialModeGivesOneFlatColourPerMaterial) {
+    // Three spheres in a row; the outer two share material 0, the middle one has material 1.
+    SceneDesc desc;
+    desc.file = "materials.txt";
+    desc.camera = camera({0, 0, 10}, {0, 0, -1}, 30, 30, 12);
+    desc.background = {0.5f, 0.5f, 0.5f};
+    desc.materials = {material({1, 0, 0}), material({1, 0, 0})};  // equal colours, different indices
+    desc.lights = {directional({0, 0, -1}, {1, 1, 1})};
+    desc.has_lights_block = true;
+    desc.root = group({sphere({-2.5f, 0, 0}, 1, 0), sphere({0, 0, 0}, 1, 1), sphere({2.5f, 0, 0}, 1, 0)});
+    SceneDesc unlit = desc;
+    unlit.lights.clear();
+    const Scene scene = build(std::move(desc));
+    RenderOptions options;
+    options.mode = RenderMode::Material;
+    const Image image = render_image(scene, options);
+    // Column of each sphere's centre: x = cx + f·X/10 with fy = 6/tan 15° = 22.39 and cx = 15.
+    const float f = 6 / std::tan(15 * 3.14159265f / 180);
+    const int left = static_cast<int>(std::lround(15 - f * 0.25f)), right = static_cast<int>(std::lround(15 + f * 0.25f));
+    const Vec3f m0 = image.at(left, 6), m1 = image.at(15, 6);
+    EXPECT_NE(m0, m1);
+    EXPECT_NE(m0, (Vec3f{0, 0, 0}));
+    EXPECT_NE(m1, (Vec3f{0, 0, 0}));
+    EXPECT_EQ(image.at(right, 6), m0);
+    EXPECT_EQ(image.at(left + 1, 7), m0);  // flat: the same all over the sphere
+    EXPECT_EQ(image.at(15, 4), m1);
+    EXPECT_EQ(image.at(0, 11), (Vec3f{0, 0, 0}));  // nothing hit: black
+    // Every pixel is black or one of the two colours.
+    const Vec3f black{0, 0, 0};
+    for (const Vec3f& p : image.pixels) EXPECT_TRUE(p == m0 || p == m1 || p == black);
+    // Lights do not matter.
+    EXPECT_TRUE(same_floats(render_image(build(std::move(unlit)), options), image));
+}
+
+TEST(RenderTest, CostModeIsAHeatMapOfTheNodesEachRayVisits) {
+    const Scene scene = spheres_scene();
+    RenderOptions options;
+    options.mode = RenderMode::Cost;
+    RenderStats stats;
+    const Image image = render_image(scene, options, &stats);
+    EXPECT_EQ(stats.traversal, "single-ray");  // packets do not count nodes per ray
+    // Count the nodes of each pixel's ray independently.
+    const Camera& cam = scene.camera;
+    std::map<uint64_t, Vec3f> colour_of;
+    uint64_t total = 0;
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x) {
+            TraceCounters counters;
+            Hit hit;
+            intersect(scene, camera_ray(cam, static_cast<float>(x), static_cast<float>(y)), cam.t_min, hit, &counters);
+            total += counters.nodes_visited;
+            const auto found = colour_of.find(counters.nodes_visited);
+            if (found == colour_of.end())
+                colour_of[counters.nodes_visited] = image.at(x, y);
+            else
+                EXPECT_EQ(found->second, image.at(x, y)) << "equal costs, different colours at " << x << "," << y;
+        }
+    EXPECT_EQ(stats.nodes_visited, total);
+    ASSERT_GE(colour_of.size(), 3u) << "the scene should give several different costs";
+    // Hotter with more nodes: dark blue, then towards red, yellow, white: (R, G, B) ordered
+    // lexicographically grows with the count; the cheapest rays are dark blue.
+    const Vec3f* previous = nullptr;
+    for (const auto& [nodes, colour] : colour_of) {
+        if (previous) {
+            const bool hotter = colour.x != previous->x ? colour.x > previous->x
+                                : colour.y != previous->y ? colour.y > previous->y
+                                                          : colour.z > previous->z;
+            EXPECT_TRUE(hotter) << nodes << " nodes";
+        }
+        previous = &colour;
+    }
+    const Vec3f coolest = colour_of.begin()->second;
+    EXPECT_EQ(coolest.x, 0);
+    EXPECT_EQ(coolest.y, 0);
+    EXPECT_GT(coolest.z, 0);
+    EXPECT_LT(coolest.z, 0.6f);
+}
+
+TEST(RenderTest, BackgroundColourWhereNothingIsHit) {
+    const Scene scene = axis_sphere_scene();
+    const Image image = render_image(scene, RenderOptions{});
+    EXPECT_EQ(image.at(0, 0), (Vec3f{0.1f, 0.7f, 0.2f}));
+    EXPECT_EQ(image.at(19, 19), (Vec3f{0.1f, 0.7f, 0.2f}));
+    // course-format.md §c: background 0.1 0.7 0.2 becomes (25, 178, 51) in the file.
+    const ImageRgb8 bytes = quantize(image);
+    EXPECT_EQ(bytes.at(0, 0)[0], 25);
+    EXPECT_EQ(bytes.at(0, 0)[1], 178);
+    EXPECT_EQ(bytes.at(0, 0)[2], 51);
+    // The centre is the sphere lit head-on: kd 1 · N·L 1.
+    EXPECT_EQ(image.at(10, 10), (Vec3f{1, 1, 1}));
+    EXPECT_GT(count_hits(image, {0.1f, 0.7f, 0.2f}), 100);
+    // An empty scene is all background.
+    SceneDesc empty;
+    empty.file = "empty.txt";
+    empty.camera = camera({0, 0, 10}, {0, 0, -1}, 30, 5, 4);
+    empty.background = {0.3f, 0.2f, 0.1f};
+    empty.root = group({});
+    const Image nothing = render_image(build(std::move(empty)), RenderOptions{});
+    for (const Vec3f& p : nothing.pixels) EXPECT_EQ(p, (Vec3f{0.3f, 0.2f, 0.1f}));
+}
+
+TEST(RenderTest, MitConventionsSamplePixelCentres) {
+    // A 2×2 image of a sphere centred on the axis: with pixel centres (+0.5) the four pixels look
+    // symmetrically off the axis and are identical; with the course's corners, pixel (1, 1) is the
+    // axis ray itself (cx = cy = 1) and differs from pixel (0, 0).
+    SceneDesc desc;
+    desc.file = "mit.txt";
+    desc.camera = camera({0, 0, 10}, {0, 0, -1}, 10, 2, 2);
+    desc.background = {0, 0, 0};
+    desc.materials = {material({1, 1, 1})};
+    desc.lights = {point_light({3, 4, 10}, {1, 1, 1})};
+    desc.has_lights_block = true;
+    desc.root = sphere({0, 0, 0}, 1);
+    RenderOptions options;
+    options.mode = RenderMode::Normals;
+    const Image mit = render_image(build(desc, Conventions::mit6837()), options);
+    EXPECT_EQ(mit.at(0, 0), mit.at(1, 0));
+    EXPECT_EQ(mit.at(0, 0), mit.at(0, 1));
+    EXPECT_EQ(mit.at(0, 0), mit.at(1, 1));
+    EXPECT_GT(mit.at(0, 0).x, 0);
+    const Image course = render_image(build(desc), options);
+    EXPECT_NEAR(course.at(1, 1).z, 1, 1e-6);
+    EXPECT_NE(course.at(0, 0), course.at(1, 1));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Degenerate input.
+
+bool all_finite(const Image& image) {
+    for (const Vec3f& p : image.pixels)
+        if (!is_finite(p)) return false;
+    return true;
+}
+
+TEST(RenderTest, NoNanOrInfinityWithDegenerateTriangles) {
+    // Zero-area triangles of every kind, lying across the view (some on the axis ray), in a mesh
+    // with cancelling and zero vertex normals, as Triangle objects, and under a transform; plus a
+    // sphere of radius 0 on the axis and ordinary objects around them.
+    TriangleMesh degenerate;
+    degenerate.positions = {{-1, 0, 0}, {0, 0, 0}, {1, 0, 0},   // collinear through the axis
+                            {0, 1, 0},  {0, 1, 0}, {0, 1, 0},   // one point three times
+                            {0, -1, 0}, {0, -1, 0}, {1, -1, 0},  // two equal corners
+                            {-2, 0, 0}, {-1, 1, 0}, {-1.5f, 0.5f, 0}};
+    degenerate.indices = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11};
+    degenerate.normals = {{0, 0, 1}, {0, 0, -1}, {0, 0, 0}};
+    degenerate.normal_indices = {0, 1, 2, 0, 0, 1, 2, 2, 2, 0, 1, 2};
+    SceneDesc desc;
+    desc.file = "degenerate.txt";
+    desc.camera = camera({0, 0, 10}, {0, 0, -1}, 20, 24, 24);
+    desc.background = {0.2f, 0.2f, 0.2f};
+    desc.materials = {material({0.8f, 0.8f, 0.8f}, {1, 1, 1}, 10)};
+    desc.lights = {point_light({0, 0, 5}, {1, 1, 1}), directional({0, 0, -1}, {0.5f, 0.5f, 0.5f})};
+    desc.has_lights_block = true;
+    desc.meshes.push_back({"degenerate.obj", degenerate});
+    desc.root = group({
+        mesh_object(0),
+        transform(Mat4::translate({0.5f, 0.5f, 1}) * Mat4::scale({2, 2, 2}), mesh_object(0)),
+        triangle({-1, -1, 2}, {1, 1, 2}, {0, 0, 2}),
+        triangle({0.5f, 0.5f, 3}, {0.5f, 0.5f, 3}, {0.5f, 0.5f, 3}),
+        sphere({0, 0, 4}, 0),
+        sphere({2, 2, -3}, 1),
+        plane({0, 1, 0}, -3),
+    });
+    const Scene scene = build(std::move(desc));
+    for (RenderMode mode : {RenderMode::Shaded, RenderMode::Normals, RenderMode::Depth, RenderMode::Material,
+                            RenderMode::Cost})
+        for (int spp : {1, 4})
+            for (bool shadows : {false, true})
+                for (PacketIsa isa : available_isas()) {
+                    RenderOptions options = options_with(isa);
+                    options.mode = mode;
+                    options.samples_per_pixel = spp;
+                    options.shadows = shadows;
+                    const Image image = render_image(scene, options);
+                    EXPECT_TRUE(all_finite(image)) << "mode " << static_cast<int>(mode) << " spp " << spp
+                                                   << " shadows " << shadows << " " << packet_isa_name(isa);
+                }
+    // The ordinary objects are still drawn around the degenerate ones.
+    const Image image = render_image(scene, RenderOptions{});
+    EXPECT_GT(count_hits(image, {0.2f, 0.2f, 0.2f}), 50);
+}
+
+TEST(RenderTest, DepthModeWithOneDistanceOrNoHitsStaysFinite) {
+    // Every hit at the same t (a plane facing an orthographic-like narrow view) or no hit at all:
+    // the automatic range is empty, which must not divide by zero.
+    SceneDesc desc;
+    desc.file = "flat.txt";
+    desc.camera = camera({0, 0, 10}, {0, 0, -1}, 1, 3, 3);
+    desc.materials = {material({1, 1, 1})};
+    desc.root = group({});
+    RenderOptions options;
+    options.mode = RenderMode::Depth;
+    const Image none = render_image(build(desc), options);
+    EXPECT_TRUE(all_finite(none));
+    for (const Vec3f& p : none.pixels) EXPECT_EQ(p, (Vec3f{0, 0, 0}));
+    // A single pixel seeing a plane: one distance, drawn white (nearest and farthest at once).
+    desc.camera = camera({0, 0, 10}, {0, 0, -1}, 1, 1, 1);
+    desc.root = plane({0, 0, 1}, 0);
+    const Image one = render_image(build(desc), options);
+    EXPECT_TRUE(all_finite(one));
+    EXPECT_EQ(one.at(0, 0), (Vec3f{1, 1, 1}));
+}
+
+}  // namespace
+}  // namespace raycast

@@ -1,0 +1,465 @@
+// build_scene (scene/build_scene.h): from a SceneDesc made in code (or, where the file's order of
+// transform items matters, from scene text) to the flat scene, checked through intersect() and
+// surface_at() against hand-worked hits: non-uniform scales with normals by the inverse
+// transpose, the order of composed transforms, t for non-unit directions (course-format.md
+// §a "Transform"), one stored copy of a mesh used twice, singular transforms refused with a
+// located message, planes moved to world space, and the MaterialIndex of every object.
+#include "scene/build_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "base/error.h"
+#include "sceneio/load_scene.h"
+
+namespace raycast {
+namespace {
+
+void expect_vec_near(Vec3f actual, Vec3f expected, float tolerance = 1e-5f) {
+    EXPECT_NEAR(actual.x, expected.x, tolerance) << "x";
+    EXPECT_NEAR(actual.y, expected.y, tolerance) << "y";
+    EXPECT_NEAR(actual.z, expected.z, tolerance) << "z";
+}
+
+ObjectDesc sphere(Vec3f center, float radius, int material = 0) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Sphere;
+    o.sphere = {center, radius};
+    o.material = material;
+    return o;
+}
+
+ObjectDesc plane(Vec3f normal, float offset, int material = 0) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Plane;
+    o.plane = {normal, offset};
+    o.material = material;
+    return o;
+}
+
+ObjectDesc mesh_object(int mesh, int material = 0) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::TriangleMesh;
+    o.mesh = mesh;
+    o.material = material;
+    return o;
+}
+
+ObjectDesc transform(const Mat4& m, ObjectDesc child, SourceLocation location = {}) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Transform;
+    o.world_from_object = m;
+    o.location = std::move(location);
+    o.children.push_back(std::move(child));
+    return o;
+}
+
+ObjectDesc group(std::vector<ObjectDesc> children) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Group;
+    o.children = std::move(children);
+    return o;
+}
+
+// The cube [−1, 1]³ with counter-clockwise outward faces, like the course's cube.obj.
+TriangleMesh cube_mesh() {
+    TriangleMesh mesh;
+    mesh.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+    mesh.indices = {4, 5, 6, 4, 6, 7, 0, 2, 1, 0, 3, 2, 1, 2, 6, 1, 6, 5,
+                    0, 4, 7, 0, 7, 3, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4};
+    return mesh;
+}
+
+SceneDesc scene_with(ObjectDesc root, int materials = 1) {
+    SceneDesc desc;
+    desc.file = "code.txt";
+    CameraDesc camera;
+    camera.center = {0, 0, 10};
+    camera.angle_degrees = 30;
+    camera.width = 8;
+    camera.height = 8;
+    desc.camera = camera;
+    desc.materials.resize(static_cast<size_t>(materials));
+    desc.root = std::move(root);
+    return desc;
+}
+
+// The closest hit along a ray, and what shading sees there.
+struct Traced {
+    bool hit = false;
+    float t = 0;
+    Vec3f position, normal;
+    uint32_t material = 0, object = 0;
+};
+
+Traced trace(const Scene& scene, Vec3f origin, Vec3f direction) {
+    const Ray ray{origin, direction};
+    Hit hit;
+    intersect(scene, ray, 0, hit);
+    Traced result;
+    if (!hit.is_hit()) return result;
+    const SurfacePoint surface = surface_at(scene, ray, hit);
+    result = {true, hit.t, surface.position, surface.normal, surface.material, hit.object};
+    return result;
+}
+
+TEST(BuildSceneTest, NonUniformlyScaledSphereHitAndNormalByInverseTranspose) {
+    // Scale 2 1 1 of the unit sphere: the ellipsoid x²/4 + y² + z² = 1.
+    const Scene scene = build_scene(scene_with(transform(Mat4::scale({2, 1, 1}), sphere({0, 0, 0}, 1))), {});
+    ASSERT_EQ(scene.object_from_world.size(), 1u);
+    // Ray down −z at x = 1: 1/4 + z² = 1, z = √0.75; t = 5 − √0.75 = 4.1339746.
+    // Normal: the gradient (x/2, 2y, 2z) = (0.5, 0, 1.7320508), normalised by √3.25:
+    // (0.2773501, 0, 0.9607689). (M⁻¹)ᵀ of the object normal (0.5, 0, √0.75) gives the same:
+    // diag(0.5, 1, 1)·(0.5, 0, 0.866) = (0.25, 0, 0.866), normalised.
+    Traced hit = trace(scene, {1, 0, 5}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 4.1339746f, 1e-5);
+    expect_vec_near(hit.position, {1, 0, 0.8660254f});
+    expect_vec_near(hit.normal, {0.2773501f, 0, 0.9607689f});
+    // Off both axes, at (0.6, 0.3): 0.09 + 0.09 + z² = 1, z = √0.82 = 0.9055385; gradient ∝ (x/4, y, z).
+    hit = trace(scene, {0.6f, 0.3f, 5}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 5 - 0.9055385f, 1e-5);
+    const double g[3] = {0.15, 0.3, std::sqrt(0.82)};
+    const double g_len = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    expect_vec_near(hit.normal, {static_cast<float>(g[0] / g_len), static_cast<float>(g[1] / g_len),
+                                 static_cast<float>(g[2] / g_len)});
+    // The ellipsoid reaches x = ±2 (a ray at x = 1.9 hits, one at x = 2.1 misses) but only y = ±1.
+    EXPECT_TRUE(trace(scene, {1.9f, 0, 5}, {0, 0, -1}).hit);
+    EXPECT_FALSE(trace(scene, {2.1f, 0, 5}, {0, 0, -1}).hit);
+    EXPECT_FALSE(trace(scene, {0, 1.1f, 5}, {0, 0, -1}).hit);
+    // From the side: hits x = 2 at t = 3.
+    hit = trace(scene, {5, 0, 0}, {-1, 0, 0});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 3, 1e-5);
+    expect_vec_near(hit.normal, {1, 0, 0});
+}
+
+TEST(BuildSceneTest, TIsTheRayParameterForNonUnitDirectionsThroughTransforms) {
+    // The same ellipsoid; t scales inversely with the length of the direction, the hit point does not.
+    const Scene scene = build_scene(scene_with(transform(Mat4::scale({2, 1, 1}), sphere({0, 0, 0}, 1))), {});
+    for (float length_factor : {0.5f, 1.0f, 2.0f, 7.0f}) {
+        const Traced hit = trace(scene, {1, 0, 5}, {0, 0, -length_factor});
+        ASSERT_TRUE(hit.hit) << length_factor;
+        EXPECT_NEAR(hit.t, 4.1339746f / length_factor, 1e-5) << length_factor;
+        expect_vec_near(hit.position, {1, 0, 0.8660254f});
+        expect_vec_near(hit.normal, {0.2773501f, 0, 0.9607689f});
+    }
+    // An oblique non-unit direction (3, 0, −4)·0.5 from (−1, 0, 5) towards the untransformed
+    // sphere of radius 1 translated to (1, 0, 1): by hand the unit ray (0.6, 0, −0.8) meets it at
+    // distance s with |(−2 + 0.6s, 0, 4 − 0.8s)|² = 1: s² − 8.8s + 19 = 0, s = 4.4 − √0.36 = 3.8;
+    // with |d| = 2.5 the parameter is t = 3.8/2.5 = 1.52.
+    const Scene moved = build_scene(scene_with(transform(Mat4::translate({1, 0, 1}), sphere({0, 0, 0}, 1))), {});
+    const Traced hit = trace(moved, {-1, 0, 5}, {1.5f, 0, -2});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 1.52f, 1e-5);
+    expect_vec_near(hit.position, {-1 + 1.5f * 1.52f, 0, 5 - 2 * 1.52f});
+    expect_vec_near(hit.normal, hit.position - Vec3f{1, 0, 1});
+}
+
+TEST(BuildSceneTest, NestedTransformsComposeOuterTimesInner) {
+    // Outer Translate 3 0 0 around inner ZRotate 90: the sphere at (1, 0, 0) is rotated to (0, 1, 0)
+    // first, then moved to (3, 1, 0).
+    const ObjectDesc ball = sphere({1, 0, 0}, 0.5f);
+    const Scene scene =
+        build_scene(scene_with(transform(Mat4::translate({3, 0, 0}), transform(Mat4::rotate_z(90), ball))), {});
+    Traced hit = trace(scene, {3, 1, 10}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 9.5f, 1e-5);
+    // Off-centre by 0.4 in x: z = √(0.25 − 0.16) = 0.3, t = 9.7, normal (0.4, 0, 0.3)/0.5.
+    hit = trace(scene, {3.4f, 1, 10}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 9.7f, 1e-5);
+    expect_vec_near(hit.normal, {0.8f, 0, 0.6f});
+    EXPECT_FALSE(trace(scene, {0, 4, 10}, {0, 0, -1}).hit);
+    // The other nesting rotates the moved sphere: (1, 0, 0) → (4, 0, 0) → (0, 4, 0).
+    const Scene other =
+        build_scene(scene_with(transform(Mat4::rotate_z(90), transform(Mat4::translate({3, 0, 0}), ball))), {});
+    EXPECT_FALSE(trace(other, {3, 1, 10}, {0, 0, -1}).hit);
+    hit = trace(other, {0, 4, 10}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 9.5f, 1e-5);
+}
+
+const char* const kCameraAndMaterials =
+    "PerspectiveCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 angle 30 width 8 height 8 }\n"
+    "Lights { numLights 1 DirectionalLight { direction 0 0 -1 color 1 1 1 } }\n"
+    "Materials { numMaterials 3\n"
+    "  Material { diffuseColor 1 0 0 }\n"
+    "  Material { diffuseColor 0 1 0 }\n"
+    "  PhongMaterial { diffuseColor 0 0 1 specularColor 1 1 1 }\n"
+    "}\n";
+
+TEST(BuildSceneTest, TransformItemsFromTheFileApplyTheLastListedFirst) {
+    // course-format.md: M = T1·T2·…: `Translate 3 0 0 ZRotate 90` rotates first, then translates,
+    // so the sphere at (1, 0, 0) ends at (3, 1, 0) (scene04's Translate-then-Scale reads the same way).
+    const std::string text = std::string(kCameraAndMaterials) +
+                             "Group { numObjects 2\n"
+                             "  MaterialIndex 0\n"
+                             "  Transform { Translate 3 0 0 ZRotate 90 Sphere { center 1 0 0 radius 0.5 } }\n"
+                             "  Transform { ZRotate 90 Translate 3 0 0 Sphere { center 1 0 0 radius 0.5 } }\n"
+                             "}\n";
+    const Scene scene = build_scene(load_scene_text(text, "order.txt"), {});
+    Traced hit = trace(scene, {3, 1, 10}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_EQ(hit.object, 0u);
+    EXPECT_NEAR(hit.t, 9.5f, 1e-5);
+    hit = trace(scene, {0, 4, 10}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_EQ(hit.object, 1u);
+    EXPECT_NEAR(hit.t, 9.5f, 1e-5);
+    // Nothing at (4, 0, 0), where translating without rotating would put the sphere.
+    EXPECT_FALSE(trace(scene, {4, 0, 10}, {0, 0, -1}).hit);
+}
+
+TEST(BuildSceneTest, MeshUsedByTwoTransformsIsStoredOnce) {
+    SceneDesc desc = scene_with(group({transform(Mat4::translate({-3, 0, 0}), mesh_object(0)),
+                                       transform(Mat4::translate({3, 0, 0}) * Mat4::scale({0.5f, 0.5f, 0.5f}),
+                                                 mesh_object(0)),
+                                       mesh_object(0)}));
+    desc.meshes.push_back({"cube.obj", cube_mesh()});
+    desc.meshes.push_back({"unused.obj", cube_mesh()});  // never referenced: never built
+    const Scene scene = build_scene(std::move(desc), {});
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].mesh.triangle_count(), 12u);
+    ASSERT_EQ(scene.instances.size(), 3u);
+    for (const Instance& inst : scene.instances) {
+        EXPECT_EQ(inst.kind, ShapeKind::Mesh);
+        EXPECT_EQ(inst.shape, 0u);
+    }
+    EXPECT_EQ(scene.object_from_world.size(), 2u);  // the third use has no transform
+    EXPECT_EQ(scene.instances[2].transform, kNoTransform);
+    // Each copy is where its transform puts it: front faces z = 1, z = 0.5 and z = 1.
+    Traced hit = trace(scene, {-3, 0.2f, 10}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_EQ(hit.object, 0u);
+    EXPECT_NEAR(hit.t, 9, 1e-5);
+    expect_vec_near(hit.normal, {0, 0, 1});
+    hit = trace(scene, {3, 0.2f, 10}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_EQ(hit.object, 1u);
+    EXPECT_NEAR(hit.t, 9.5f, 1e-5);
+    EXPECT_FALSE(trace(scene, {3.7f, 0, 10}, {0, 0, -1}).hit);  // the half-size copy reaches x = 3.5
+    hit = trace(scene, {0, 0.2f, 10}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_EQ(hit.object, 2u);
+    EXPECT_NEAR(hit.t, 9, 1e-5);
+}
+
+TEST(BuildSceneTest, TwoDifferentMeshesAreStoredSeparately) {
+    SceneDesc desc = scene_with(group({mesh_object(1), transform(Mat4::translate({0, 3, 0}), mesh_object(0))}));
+    desc.meshes.push_back({"a.obj", cube_mesh()});
+    TriangleMesh one_triangle;
+    one_triangle.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    one_triangle.indices = {0, 1, 2};
+    desc.meshes.push_back({"b.obj", one_triangle});
+    const Scene scene = build_scene(std::move(desc), {});
+    ASSERT_EQ(scene.meshes.size(), 2u);
+    // Meshes are stored in the order they are first used.
+    EXPECT_EQ(scene.meshes[scene.instances[0].shape].mesh.triangle_count(), 1u);
+    EXPECT_EQ(scene.meshes[scene.instances[1].shape].mesh.triangle_count(), 12u);
+}
+
+const char* const kSingularMessage =
+    "this transform cannot be inverted (it squashes space flat): check for a zero scale";
+
+TEST(BuildSceneTest, SingularTransformIsAnInputErrorAtTheTransform) {
+    const SceneDesc desc =
+        scene_with(group({sphere({0, 0, 0}, 1),
+                          transform(Mat4::scale({1, 0, 1}), sphere({0, 0, 0}, 1), {"flat.txt", 7, 3})}));
+    try {
+        build_scene(desc, {});
+        FAIL() << "a zero scale was accepted";
+    } catch (const InputError& e) {
+        ASSERT_EQ(e.diagnostics().size(), 1u);
+        const Diagnostic& d = e.diagnostics()[0];
+        EXPECT_EQ(d.severity, Severity::Error);
+        EXPECT_EQ(d.message, kSingularMessage);
+        EXPECT_EQ(d.location.file, "flat.txt");
+        EXPECT_EQ(d.location.line, 7);
+        EXPECT_EQ(d.location.column, 3);
+        EXPECT_EQ(std::string(e.what()), std::string("flat.txt:7:3: error: ") + kSingularMessage + "\n");
+    }
+}
+
+TEST(BuildSceneTest, EverySingularTransformIsReportedIncludingRankDeficientMatrices) {
+    // Rows (1 2 3), (4 5 6), (5 7 9): the third is the sum of the first two, no zero anywhere.
+    const float rows[16] = {1, 2, 3, 0, 4, 5, 6, 0, 5, 7, 9, 0, 0, 0, 0, 1};
+    const SceneDesc desc = scene_with(group({
+        transform(Mat4::from_rows(rows), sphere({0, 0, 0}, 1), {"m.txt", 2, 1}),
+        // Invertible outside, singular inside: the product is singular.
+        transform(Mat4::translate({1, 2, 3}), transform(Mat4::scale({0, 0, 0}), plane({0, 1, 0}, 0), {"m.txt", 4, 5}),
+                  {"m.txt", 3, 1}),
+    }));
+    try {
+        build_scene(desc, {});
+        FAIL() << "singular transforms were accepted";
+    } catch (const InputError& e) {
+        ASSERT_EQ(e.diagnostics().size(), 2u);
+        EXPECT_EQ(e.diagnostics()[0].message, kSingularMessage);
+        EXPECT_EQ(e.diagnostics()[0].location.line, 2);
+        EXPECT_EQ(e.diagnostics()[1].message, kSingularMessage);
+        EXPECT_EQ(e.diagnostics()[1].location.line, 4);
+        EXPECT_EQ(e.diagnostics()[1].location.column, 5);
+    }
+    // The identity as a "transform" is fine, and so is a tiny but regular scale.
+    EXPECT_NO_THROW(build_scene(scene_with(transform(Mat4::identity(), sphere({0, 0, 0}, 1))), {}));
+    EXPECT_NO_THROW(build_scene(scene_with(transform(Mat4::scale({1e-3f, 1e-3f, 1e-3f}), sphere({0, 0, 0}, 1))), {}));
+}
+
+TEST(BuildSceneTest, MissingCameraOrImageSizeIsAnInputError) {
+    SceneDesc no_camera = scene_with(sphere({0, 0, 0}, 1));
+    no_camera.camera.reset();
+    try {
+        build_scene(no_camera, {});
+        FAIL();
+    } catch (const InputError& e) {
+        ASSERT_EQ(e.diagnostics().size(), 1u);
+        EXPECT_EQ(e.diagnostics()[0].message, "the scene has no camera");
+    }
+    SceneDesc no_size = scene_with(sphere({0, 0, 0}, 1));
+    no_size.camera->width = 0;
+    no_size.camera->height = 0;
+    EXPECT_THROW(build_scene(no_size, {}), InputError);
+    // The options' size fills in (and overrides) the camera's.
+    SceneBuildOptions options;
+    options.width = 12;
+    options.height = 6;
+    const Scene scene = build_scene(no_size, options);
+    EXPECT_EQ(scene.camera.width, 12);
+    EXPECT_EQ(scene.camera.height, 6);
+}
+
+TEST(BuildSceneTest, PlanesAreMovedToWorldSpace) {
+    // The floor y = −2 (scene01's plane) under three transforms.
+    const ObjectDesc floor = plane({0, 1, 0}, -2);
+    // Translate 0 5 0: y = 3. From (0, 10, 0) straight down: t = 7.
+    Scene scene = build_scene(scene_with(transform(Mat4::translate({0, 5, 0}), floor)), {});
+    Traced hit = trace(scene, {0.5f, 10, -0.25f}, {0, -1, 0});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 7, 1e-5);
+    expect_vec_near(hit.normal, {0, 1, 0});
+    // Scale 1 2 1: y = −4; the normal (M⁻ᵀn = (0, 0.5, 0)) comes out unit. With direction (0, −2, 0), t = 7.
+    scene = build_scene(scene_with(transform(Mat4::scale({1, 2, 1}), floor)), {});
+    hit = trace(scene, {0, 10, 0}, {0, -2, 0});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 7, 1e-5);
+    expect_vec_near(hit.position, {0, -4, 0});
+    expect_vec_near(hit.normal, {0, 1, 0});
+    // Translate 0 0 1, XRotate 90: the rotation takes +y to +z, so y = −2 becomes z = −2, then z = −1.
+    scene = build_scene(scene_with(transform(Mat4::translate({0, 0, 1}) * Mat4::rotate_x(90), floor)), {});
+    hit = trace(scene, {0.3f, 0.2f, 5}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 6, 1e-5);
+    expect_vec_near(hit.normal, {0, 0, 1});
+}
+
+// Rotations by multiples of 90 degrees must be exact: with cos 90° = 6.1e-17 (its double value)
+// the world plane's normal would keep a y component of 6e-17 and a ray parallel to the plane
+// would hit it near t = 1.6e17 instead of missing it (a background pixel would show the plane).
+TEST(BuildSceneTest, RayParallelToAPlaneRotatedByNinetyDegreesMissesIt) {
+    const Scene scene =
+        build_scene(scene_with(transform(Mat4::translate({0, 0, 1}) * Mat4::rotate_x(90), plane({0, 1, 0}, -2))), {});
+    ASSERT_EQ(scene.planes.size(), 1u);
+    EXPECT_EQ(scene.planes[0].normal.y, 0.0f);
+    EXPECT_FALSE(trace(scene, {0, 10, 0}, {0, -1, 0}).hit);  // z = 0 never reaches the plane z = −1
+}
+
+TEST(BuildSceneTest, TransformedPlaneHoldsExactlyThePointsThatMapBackOntoTheObjectPlane) {
+    // A general transform; a world point p is on the plane iff n·(M⁻¹p) = d.
+    const Mat4 m = Mat4::translate({1, -2, 3}) * Mat4::rotate({1, 2, 3}, 35) * Mat4::scale({2, 0.5f, 3});
+    const Plane object_plane{{0.6f, 0, 0.8f}, 1.5f};
+    const Scene scene = build_scene(scene_with(transform(m, plane(object_plane.normal, object_plane.offset))), {});
+    ASSERT_EQ(scene.planes.size(), 1u);
+    const Mat4 object_from_world = inverse(m);
+    int hits = 0;
+    for (const Vec3f direction : {Vec3f{0, 0, -1}, Vec3f{1, -1, -0.5f}, Vec3f{-0.3f, 2, 0.7f}, Vec3f{0.2f, 0.1f, 1}}) {
+        for (const Vec3f origin : {Vec3f{0, 0, 10}, Vec3f{-5, 3, 1}}) {
+            Traced hit = trace(scene, origin, direction);
+            Traced back = trace(scene, origin, -direction);
+            if (!hit.hit) hit = back;
+            if (!hit.hit) continue;
+            ++hits;
+            const Vec3f p = transform_point(object_from_world, hit.position);
+            EXPECT_NEAR(dot(object_plane.normal, p), object_plane.offset, 1e-4);
+            // The normal is perpendicular to the plane: any two world points on it differ along it.
+            const Vec3f q = transform_point(m, p + Vec3f{0.8f, 3, -0.6f});  // another object-plane point
+            EXPECT_NEAR(dot(hit.normal, q - hit.position), 0, 1e-4);
+            EXPECT_NEAR(length(hit.normal), 1, 1e-6);
+        }
+    }
+    EXPECT_GE(hits, 4);
+}
+
+TEST(BuildSceneTest, EveryObjectGetsTheMaterialIndexInForceWhereItAppears) {
+    // course-format.md §a: MaterialIndex is not scoped by groups; scene04's inner group leaves its
+    // material current for the outer group. Objects count in file order.
+    const std::string text = std::string(kCameraAndMaterials) +
+                             "Group { numObjects 4\n"
+                             "  MaterialIndex 1\n"
+                             "  Sphere { center -3 0 0 radius 0.5 }\n"
+                             "  Group { numObjects 1 MaterialIndex 2 Sphere { center -1 0 0 radius 0.5 } }\n"
+                             "  Sphere { center 1 0 0 radius 0.5 }\n"
+                             "  MaterialIndex 0\n"
+                             "  Transform { Translate 3 0 0 Sphere { center 0 0 0 radius 0.5 } }\n"
+                             "}\n";
+    const Scene scene = build_scene(load_scene_text(text, "materials.txt"), {});
+    ASSERT_EQ(scene.instances.size(), 4u);
+    const uint32_t expected[4] = {1, 2, 2, 0};
+    const float xs[4] = {-3, -1, 1, 3};
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_EQ(scene.instances[static_cast<size_t>(i)].material, expected[i]) << i;
+        const Traced hit = trace(scene, {xs[i], 0, 10}, {0, 0, -1});
+        ASSERT_TRUE(hit.hit) << i;
+        EXPECT_EQ(hit.object, static_cast<uint32_t>(i));
+        EXPECT_EQ(hit.material, expected[i]) << i;
+    }
+    ASSERT_EQ(scene.materials.size(), 3u);
+    EXPECT_EQ(scene.materials[1].diffuse, (Vec3f{0, 1, 0}));
+    EXPECT_EQ(scene.materials[2].specular, (Vec3f{1, 1, 1}));
+}
+
+TEST(BuildSceneTest, MaterialsAndLightsAreCopiedWithDefaultsByConventions) {
+    SceneDesc desc = scene_with(group({sphere({0, 0, 0}, 1, 1), sphere({3, 0, 0}, 1, 0)}), 2);
+    desc.materials[0].diffuse = {0.1f, 0.2f, 0.3f};
+    desc.materials[0].shininess = 20;  // given
+    // materials[1] gives no shininess: 0 in the course, 1 for MIT 6.837.
+    LightDesc light;
+    light.kind = LightDesc::Kind::Directional;
+    light.direction = {0, -3, -4};  // normalised by the build
+    light.color = {0.5f, 0.25f, 1};
+    desc.lights.push_back(light);
+    LightDesc point;
+    point.kind = LightDesc::Kind::Point;
+    point.position = {1, 2, 3};
+    desc.lights.push_back(point);
+    desc.background = {0.1f, 0.7f, 0.2f};
+
+    const Scene course = build_scene(desc, {});
+    EXPECT_EQ(course.instances[0].material, 1u);
+    EXPECT_EQ(course.instances[1].material, 0u);
+    EXPECT_EQ(course.materials[0].diffuse, (Vec3f{0.1f, 0.2f, 0.3f}));
+    EXPECT_EQ(course.materials[0].shininess, 20);
+    EXPECT_EQ(course.materials[1].shininess, 0);
+    ASSERT_EQ(course.lights.size(), 2u);
+    EXPECT_EQ(course.lights[0].kind, Light::Kind::Directional);
+    expect_vec_near(course.lights[0].direction, {0, -0.6f, -0.8f});
+    EXPECT_EQ(course.lights[0].color, (Vec3f{0.5f, 0.25f, 1}));
+    EXPECT_EQ(course.lights[1].kind, Light::Kind::Point);
+    EXPECT_EQ(course.lights[1].position, (Vec3f{1, 2, 3}));
+    EXPECT_EQ(course.background, (Vec3f{0.1f, 0.7f, 0.2f}));
+
+    SceneBuildOptions mit;
+    mit.conventions = Conventions::mit6837();
+    const Scene mit_scene = build_scene(desc, mit);
+    EXPECT_EQ(mit_scene.materials[0].shininess, 20);
+    EXPECT_EQ(mit_scene.materials[1].shininess, 1);
+    EXPECT_EQ(mit_scene.camera.pixel_offset, 0.5f);  // the conventions reach the camera
+}
+
+}  // namespace
+}  // namespace raycast
