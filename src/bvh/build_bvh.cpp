@@ -1,19 +1,39 @@
 #include "bvh/build_bvh.h"
 
 #include <algorithm>
-#include <atomic>
-#include <thread>
+#include <cmath>
+
+#include "base/parallel.h"
 
 namespace raycast {
 
 namespace {
 
-// Subtrees at least this large are built as separate pieces that may run on their own thread.
-// The choice depends on the size alone, so the tree is the same for any thread count.
-constexpr uint32_t kParallelSubtreeSize = 16384;
+// Subtrees smaller than this are built as one piece, serially; the nodes above them (the "top")
+// are split with the binning spread over threads. The choice depends on the sizes alone, so the
+// tree is the same for any thread count.
+constexpr uint32_t kPieceSize = 16384;
+// Primitives per task when binning a top node in parallel.
+constexpr uint32_t kBinningChunk = 32768;
 constexpr int kMaxBins = 32;
 
-Vec3f centroid(const Bounds3f& b) { return b.lower * 0.5f + b.upper * 0.5f; }
+Vec3f centroid(const Bounds3f& b) { return (b.lower + b.upper) * 0.5f; }
+
+// Boxes are stored a little larger than their contents: one float step outwards on every side,
+// and at least kMinPad. A ray whose direction component is 0 gets 1/1e-30 = 1e30 as its inverse
+// (bvh.h, safe_inverse); if its origin lay exactly in a face plane, (face - origin)·1e30 would be
+// 0 and the slab would close at t = 0, losing the box. With the face moved past every vertex it
+// bounds by at least kMinPad, that product is at least 1e10, beyond any t a scene produces. The
+// absolute minimum matters only for coordinates within about 1e-13 of zero.
+constexpr float kMinPad = 1e-20f;
+
+Bounds3f pad_box(Bounds3f b) {
+    for (int axis = 0; axis < 3; ++axis) {
+        b.lower[axis] = std::min(std::nextafter(b.lower[axis], -INFINITY), b.lower[axis] - kMinPad);
+        b.upper[axis] = std::max(std::nextafter(b.upper[axis], INFINITY), b.upper[axis] + kMinPad);
+    }
+    return b;
+}
 
 struct Range {
     uint32_t begin = 0, end = 0;
@@ -29,6 +49,39 @@ struct Split {
     Range left, right;
 };
 
+struct Bin {
+    Bounds3f bounds;
+    uint32_t count = 0;
+};
+
+// Bins of all three axes, filled in one pass over the primitives.
+struct Bins {
+    Bin axis[3][kMaxBins];
+
+    void merge(const Bins& other, int bin_count) {
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < bin_count; ++b) {
+                axis[a][b].bounds.grow(other.axis[a][b].bounds);
+                axis[a][b].count += other.axis[a][b].count;
+            }
+    }
+};
+
+// Where a centroid falls among `bin_count` bins that span the centroid box.
+struct Binning {
+    Vec3f lower;
+    Vec3f scale;  // bins per unit length; 0 on an axis with no extent
+    int bin_count;
+
+    int bin_of(float c, int axis) const {
+        const float f = (c - lower[axis]) * scale[axis];
+        // Written so that a NaN or an overflow lands in a valid bin instead of an invalid int.
+        if (!(f > 0)) return 0;
+        if (f >= static_cast<float>(bin_count - 1)) return bin_count - 1;
+        return static_cast<int>(f);
+    }
+};
+
 class Builder {
 public:
     Builder(BvhPrimitive* primitives, const BvhBuildOptions& options)
@@ -36,7 +89,7 @@ public:
           options_(options),
           bin_count_(std::clamp(options.bin_count, 2, kMaxBins)),
           max_leaf_(std::max(1, options.max_leaf_size)),
-          spare_threads_(std::max(0, options.threads - 1)) {}
+          threads_(std::max(1, options.threads)) {}
 
     Range make_range(uint32_t begin, uint32_t end) const {
         Range range{begin, end, {}, {}};
@@ -47,27 +100,102 @@ public:
         return range;
     }
 
+    std::vector<BvhNode> build_all(const Range& all) {
+        // 1. Split the top of the tree, down to ranges smaller than kPieceSize (the pieces).
+        const ChildRef root = split_top(all, 0);
+        // 2. Build the pieces, each serially, as many at once as there are threads.
+        std::vector<std::vector<BvhNode>> piece_nodes(pieces_.size());
+        parallel_for(pieces_.size(), threads_, [&](size_t i, int) {
+            std::vector<BvhNode> nodes;
+            // A subtree over n primitives has at most 2n - 1 nodes.
+            nodes.reserve(2 * size_t{pieces_[i].range.size()});
+            nodes.resize(1);
+            build(pieces_[i].range, nodes, 0, pieces_[i].depth);
+            piece_nodes[i] = std::vector<BvhNode>(nodes.begin(), nodes.end());  // exact size
+        });
+        // 3. Lay everything out in one array, freeing each piece once it is copied.
+        size_t total = 2 * top_.size() + 1;
+        for (const std::vector<BvhNode>& p : piece_nodes) total += p.size() - 1;
+        std::vector<BvhNode> nodes;
+        nodes.reserve(total);
+        nodes.resize(1);
+        emit(root, nodes, 0, piece_nodes);
+        return nodes;
+    }
+
+private:
+    // A child of a top node: another top node (>= 0) or a piece (~index, < 0).
+    using ChildRef = int64_t;
+    struct TopNode {
+        Bounds3f bounds;
+        ChildRef child[2];
+    };
+    struct Piece {
+        Range range;
+        int depth;
+    };
+
+    ChildRef split_top(const Range& range, int depth) {
+        if (range.size() < kPieceSize) {
+            pieces_.push_back({range, depth});
+            return ~static_cast<ChildRef>(pieces_.size() - 1);
+        }
+        Split split;
+        if (depth < kMaxSahDepth) split = find_sah_split(range);
+        if (split.axis >= 0)
+            partition(range, split);
+        else
+            split = median_split(range);
+        const size_t index = top_.size();
+        top_.push_back({range.bounds, {0, 0}});
+        const ChildRef left = split_top(split.left, depth + 1);
+        const ChildRef right = split_top(split.right, depth + 1);
+        top_[index].child[0] = left;
+        top_[index].child[1] = right;
+        return static_cast<ChildRef>(index);
+    }
+
+    // Writes the subtree `ref` with its root at nodes[slot]; children are appended.
+    void emit(ChildRef ref, std::vector<BvhNode>& nodes, size_t slot, std::vector<std::vector<BvhNode>>& piece_nodes) {
+        if (ref < 0) {
+            std::vector<BvhNode>& piece = piece_nodes[static_cast<size_t>(~ref)];
+            // In a piece node 0 is its root and the other nodes follow; inner nodes point within it.
+            const uint32_t base = static_cast<uint32_t>(nodes.size());
+            auto relocate = [base](BvhNode node) {
+                if (!node.is_leaf()) node.first = base + node.first - 1;
+                return node;
+            };
+            nodes[slot] = relocate(piece[0]);
+            for (size_t i = 1; i < piece.size(); ++i) nodes.push_back(relocate(piece[i]));
+            piece = {};
+            return;
+        }
+        const TopNode& top = top_[static_cast<size_t>(ref)];
+        const uint32_t first = static_cast<uint32_t>(nodes.size());
+        nodes[slot].bounds = pad_box(top.bounds);
+        nodes[slot].first = first;
+        nodes[slot].count = 0;
+        nodes.resize(nodes.size() + 2);
+        emit(top.child[0], nodes, first, piece_nodes);
+        emit(top.child[1], nodes, first + 1, piece_nodes);
+    }
+
     // Builds the subtree for `range` with its root at nodes[root] (already allocated).
-    void build(const Range& range, std::vector<BvhNode>& nodes, uint32_t root, int depth) {
-        nodes[root].bounds = range.bounds;
+    void build(const Range& range, std::vector<BvhNode>& nodes, uint32_t root, int depth) const {
+        nodes[root].bounds = pad_box(range.bounds);
         const uint32_t count = range.size();
         Split split;
         if (count > 1 && depth < kMaxSahDepth) split = find_sah_split(range);
         const float leaf_cost = static_cast<float>(count);
         if (count <= static_cast<uint32_t>(max_leaf_) && (split.axis < 0 || leaf_cost <= split.cost)) {
-            make_leaf(nodes[root], range);
+            nodes[root].first = range.begin;
+            nodes[root].count = count;
             return;
         }
-        if (split.axis >= 0) {
+        if (split.axis >= 0)
             partition(range, split);
-        } else {
+        else
             split = median_split(range);  // no useful SAH plane, or the tree is already deep
-        }
-
-        if (count >= kParallelSubtreeSize) {
-            build_children_as_pieces(split, nodes, root, depth);
-            return;
-        }
         const uint32_t first_child = static_cast<uint32_t>(nodes.size());
         nodes[root].first = first_child;
         nodes[root].count = 0;
@@ -76,97 +204,107 @@ public:
         build(split.right, nodes, first_child + 1, depth + 1);
     }
 
-private:
-    void make_leaf(BvhNode& node, const Range& range) const {
-        node.first = range.begin;
-        node.count = range.size();
-    }
-
-    int bin_of(float c, float lower, float scale) const {
-        const float f = (c - lower) * scale;
-        // Written so that a NaN or an overflow lands in a valid bin instead of an invalid int.
-        if (!(f > 0)) return 0;
-        if (f >= static_cast<float>(bin_count_ - 1)) return bin_count_ - 1;
-        return static_cast<int>(f);
-    }
-
-    // Sorts the primitives into bin_count_ bins along each axis and evaluates the SAH at every
-    // plane between bins (Wald, "On fast construction of SAH-based bounding volume hierarchies").
-    Split find_sah_split(const Range& range) const {
-        struct Bin {
-            Bounds3f bounds, centroid_bounds;
-            uint32_t count = 0;
-        };
-        Split best;
-        const float parent_area = range.bounds.half_area();
-        const Vec3f lower = range.centroid_bounds.lower;
+    Binning binning_for(const Range& range) const {
+        Binning binning{range.centroid_bounds.lower, {}, bin_count_};
         const Vec3f extent = range.centroid_bounds.extent();
-        for (int axis = 0; axis < 3; ++axis) {
-            if (!(extent[axis] > 0)) continue;
-            const float scale = static_cast<float>(bin_count_) / extent[axis];
-            Bin bins[kMaxBins];
-            for (uint32_t i = range.begin; i < range.end; ++i) {
-                const Bounds3f& b = primitives_[i].bounds;
-                const Vec3f c = centroid(b);
-                Bin& bin = bins[bin_of(c[axis], lower[axis], scale)];
+        for (int axis = 0; axis < 3; ++axis)
+            binning.scale[axis] = extent[axis] > 0 ? static_cast<float>(bin_count_) / extent[axis] : 0.0f;
+        return binning;
+    }
+
+    void fill_bins(uint32_t begin, uint32_t end, const Binning& binning, Bins& bins) const {
+        for (uint32_t i = begin; i < end; ++i) {
+            const Bounds3f& b = primitives_[i].bounds;
+            const Vec3f c = centroid(b);
+            for (int axis = 0; axis < 3; ++axis) {
+                Bin& bin = bins.axis[axis][binning.bin_of(c[axis], axis)];
                 bin.bounds.grow(b);
-                bin.centroid_bounds.grow(c);
                 ++bin.count;
             }
+        }
+    }
+
+    // Sorts the primitives into bins along each axis and evaluates the SAH at every plane between
+    // bins (Wald, "On fast construction of SAH-based bounding volume hierarchies", 2007). Large
+    // ranges are binned in chunks on several threads; min, max and counts do not depend on the
+    // order in which chunks are merged, so neither does the tree.
+    Split find_sah_split(const Range& range) const {
+        const Binning binning = binning_for(range);
+        Bins bins_storage;  // 2.7 KB on the stack; freed before the caller recurses
+        Bins* bins = &bins_storage;
+        if (range.size() >= 2 * kBinningChunk && threads_ > 1) {
+            const size_t chunks = (range.size() + kBinningChunk - 1) / kBinningChunk;
+            std::vector<Bins> partial(chunks);
+            parallel_for(chunks, threads_, [&](size_t chunk, int) {
+                const uint32_t begin = range.begin + static_cast<uint32_t>(chunk) * kBinningChunk;
+                fill_bins(begin, std::min(range.end, begin + kBinningChunk), binning, partial[chunk]);
+            });
+            for (const Bins& p : partial) bins->merge(p, bin_count_);
+        } else {
+            fill_bins(range.begin, range.end, binning, *bins);
+        }
+
+        Split best;
+        const float parent_area = range.bounds.half_area();
+        for (int axis = 0; axis < 3; ++axis) {
+            if (binning.scale[axis] == 0) continue;
+            const Bin* axis_bins = bins->axis[axis];
             // Sweep from the right, remembering the right side's area·count at every plane.
             float right_cost[kMaxBins];
             Bounds3f accumulated;
             uint32_t accumulated_count = 0;
             for (int plane = bin_count_ - 1; plane > 0; --plane) {
-                accumulated.grow(bins[plane].bounds);
-                accumulated_count += bins[plane].count;
+                accumulated.grow(axis_bins[plane].bounds);
+                accumulated_count += axis_bins[plane].count;
                 right_cost[plane] = accumulated.half_area() * static_cast<float>(accumulated_count);
             }
             accumulated = Bounds3f{};
             accumulated_count = 0;
             for (int plane = 1; plane < bin_count_; ++plane) {
-                accumulated.grow(bins[plane - 1].bounds);
-                accumulated_count += bins[plane - 1].count;
+                accumulated.grow(axis_bins[plane - 1].bounds);
+                accumulated_count += axis_bins[plane - 1].count;
                 if (accumulated_count == 0 || accumulated_count == range.size()) continue;
-                const float cost = options_.traversal_cost +
-                                   (accumulated.half_area() * static_cast<float>(accumulated_count) +
-                                    right_cost[plane]) /
-                                       parent_area;
+                const float cost =
+                    options_.traversal_cost +
+                    (accumulated.half_area() * static_cast<float>(accumulated_count) + right_cost[plane]) / parent_area;
                 if (best.axis < 0 || cost < best.cost) {
                     best.axis = axis;
                     best.bin = plane;
                     best.cost = cost;
                 }
             }
-            if (best.axis == axis) {
-                // Keep the children's boxes, so the recursion need not scan them again.
-                Range left, right;
-                for (int b = 0; b < bin_count_; ++b) {
-                    Range& side = b < best.bin ? left : right;
-                    side.bounds.grow(bins[b].bounds);
-                    side.centroid_bounds.grow(bins[b].centroid_bounds);
-                }
-                best.left = left;
-                best.right = right;
-            }
         }
         if (best.axis >= 0 && !(best.cost == best.cost)) best.axis = -1;  // NaN areas: give up on SAH
+        if (best.axis >= 0) {
+            // The children's boxes come from the bins; their centroid boxes from the partition.
+            for (int b = 0; b < bin_count_; ++b)
+                (b < best.bin ? best.left : best.right).bounds.grow(bins->axis[best.axis][b].bounds);
+        }
         return best;
     }
 
+    // Moves the primitives of the left bins before those of the right ones (Hoare's two-pointer
+    // scheme, as std::partition does) and gathers each side's centroid box on the way.
     void partition(const Range& range, Split& split) const {
+        const Binning binning = binning_for(range);
         const int axis = split.axis;
-        const float lower = range.centroid_bounds.lower[axis];
-        const float scale = static_cast<float>(bin_count_) / range.centroid_bounds.extent()[axis];
-        BvhPrimitive* middle =
-            std::partition(primitives_ + range.begin, primitives_ + range.end, [&](const BvhPrimitive& p) {
-                return bin_of(centroid(p.bounds)[axis], lower, scale) < split.bin;
-            });
-        const uint32_t mid = static_cast<uint32_t>(middle - primitives_);
+        auto goes_left = [&](const BvhPrimitive& p) { return binning.bin_of(centroid(p.bounds)[axis], axis) < split.bin; };
+        BvhPrimitive* first = primitives_ + range.begin;
+        BvhPrimitive* last = primitives_ + range.end;
+        Bounds3f left_centroids, right_centroids;
+        for (;;) {
+            while (first != last && goes_left(*first)) left_centroids.grow(centroid((first++)->bounds));
+            while (first != last && !goes_left(*(last - 1))) right_centroids.grow(centroid((--last)->bounds));
+            if (first == last) break;
+            std::swap(*first, *(last - 1));
+        }
+        const uint32_t mid = static_cast<uint32_t>(first - primitives_);
         split.left.begin = range.begin;
         split.left.end = mid;
+        split.left.centroid_bounds = left_centroids;
         split.right.begin = mid;
         split.right.end = range.end;
+        split.right.centroid_bounds = right_centroids;
     }
 
     // Halves the primitives by centroid along the widest axis: always makes progress, so the
@@ -186,52 +324,13 @@ private:
         return split;
     }
 
-    // Builds both children into vectors of their own (in parallel when a thread is free) and
-    // appends them. In a piece, node 0 is the child itself and its other nodes follow.
-    void build_children_as_pieces(const Split& split, std::vector<BvhNode>& nodes, uint32_t root, int depth) {
-        std::vector<BvhNode> left(1), right(1);
-        auto build_left = [&] { build(split.left, left, 0, depth + 1); };
-        if (take_spare_thread()) {
-            std::thread worker(build_left);
-            build(split.right, right, 0, depth + 1);
-            worker.join();
-            spare_threads_.fetch_add(1);
-        } else {
-            build_left();
-            build(split.right, right, 0, depth + 1);
-        }
-        const uint32_t first_child = static_cast<uint32_t>(nodes.size());
-        nodes[root].first = first_child;
-        nodes[root].count = 0;
-        nodes.resize(nodes.size() + 2);
-        append_piece(left, nodes, first_child);
-        left = {};
-        append_piece(right, nodes, first_child + 1);
-    }
-
-    static void append_piece(const std::vector<BvhNode>& piece, std::vector<BvhNode>& nodes, uint32_t slot) {
-        const uint32_t base = static_cast<uint32_t>(nodes.size());
-        auto relocate = [base](BvhNode node) {
-            if (!node.is_leaf()) node.first = base + node.first - 1;
-            return node;
-        };
-        nodes[slot] = relocate(piece[0]);
-        nodes.reserve(nodes.size() + piece.size() - 1);
-        for (size_t i = 1; i < piece.size(); ++i) nodes.push_back(relocate(piece[i]));
-    }
-
-    bool take_spare_thread() {
-        int available = spare_threads_.load();
-        while (available > 0)
-            if (spare_threads_.compare_exchange_weak(available, available - 1)) return true;
-        return false;
-    }
-
     BvhPrimitive* primitives_;
     const BvhBuildOptions& options_;
     int bin_count_;
     int max_leaf_;
-    std::atomic<int> spare_threads_;
+    int threads_;
+    std::vector<TopNode> top_;
+    std::vector<Piece> pieces_;
 };
 
 double sah_cost_of(const Bvh& bvh, uint32_t index, const BvhBuildOptions& options) {
@@ -251,12 +350,7 @@ Bvh build_bvh(std::vector<BvhPrimitive> primitives, const BvhBuildOptions& optio
     Bvh bvh;
     if (primitives.empty()) return bvh;
     Builder builder(primitives.data(), options);
-    const Range all = builder.make_range(0, static_cast<uint32_t>(primitives.size()));
-    // A tree has at most 2n - 1 nodes; about n / 2 is typical with leaves of four.
-    bvh.nodes.reserve(primitives.size() < kParallelSubtreeSize ? 2 * primitives.size() : 8);
-    bvh.nodes.resize(1);
-    builder.build(all, bvh.nodes, 0, 0);
-    bvh.nodes.shrink_to_fit();
+    bvh.nodes = builder.build_all(builder.make_range(0, static_cast<uint32_t>(primitives.size())));
     bvh.prim_order.resize(primitives.size());
     for (size_t i = 0; i < primitives.size(); ++i) bvh.prim_order[i] = primitives[i].id;
     return bvh;

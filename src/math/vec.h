@@ -43,8 +43,17 @@ inline Vec3f normalize(Vec3f a) {
     const float len = length(a);
     return len > 0 ? a / len : a;
 }
-inline Vec3f min(Vec3f a, Vec3f b) { return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)}; }
-inline Vec3f max(Vec3f a, Vec3f b) { return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)}; }
+/// Componentwise minimum and maximum. A NaN in `b` is ignored (the result is a's component), as
+/// fmin/fmax do, which keeps a box grown by a NaN point valid. Written as comparisons rather than
+/// std::fmin, which GCC calls as a library function: box growing is the BVH build's inner loop.
+inline float min_ignoring_nan(float a, float b) { return b < a ? b : a; }
+inline float max_ignoring_nan(float a, float b) { return b > a ? b : a; }
+inline Vec3f min(Vec3f a, Vec3f b) {
+    return {min_ignoring_nan(a.x, b.x), min_ignoring_nan(a.y, b.y), min_ignoring_nan(a.z, b.z)};
+}
+inline Vec3f max(Vec3f a, Vec3f b) {
+    return {max_ignoring_nan(a.x, b.x), max_ignoring_nan(a.y, b.y), max_ignoring_nan(a.z, b.z)};
+}
 inline Vec3f abs(Vec3f a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
 inline bool is_finite(Vec3f a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 /// The axis (0, 1, 2) of the largest component.
