@@ -1,6 +1,11 @@
 #include "base/parallel.h"
 
+#include <pthread.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <stdexcept>
 #include <atomic>
 #include <exception>
 #include <mutex>
@@ -36,6 +41,35 @@ void parallel_for(size_t count, int threads, const std::function<void(size_t, in
     run(0);
     for (std::thread& helper : helpers) helper.join();
     if (first_error) std::rethrow_exception(first_error);
+}
+
+void call_with_stack(size_t stack_bytes, const std::function<void()>& work) {
+    struct Call {
+        const std::function<void()>* work;
+        std::exception_ptr error;
+    } call{&work, nullptr};
+    auto trampoline = [](void* argument) -> void* {
+        Call* c = static_cast<Call*>(argument);
+        try {
+            (*c->work)();
+        } catch (...) {
+            c->error = std::current_exception();
+        }
+        return nullptr;
+    };
+    pthread_attr_t attributes;
+    pthread_attr_init(&attributes);
+    int status = pthread_attr_setstacksize(&attributes, stack_bytes);
+    pthread_t thread;
+    if (status == 0) status = pthread_create(&thread, &attributes, trampoline, &call);
+    pthread_attr_destroy(&attributes);
+    if (status != 0) {
+        // No thread (a process limit, or no memory for the stack): run here, as before.
+        work();
+        return;
+    }
+    pthread_join(thread, nullptr);
+    if (call.error) std::rethrow_exception(call.error);
 }
 
 }  // namespace raycast

@@ -15,4 +15,15 @@ int hardware_threads();
 /// throws, the remaining items are skipped and the first exception is rethrown here.
 void parallel_for(size_t count, int threads, const std::function<void(size_t item, int worker)>& work);
 
+/// Runs `work` on a new thread with a stack of `stack_bytes` and waits for it; an exception it
+/// throws is rethrown here. For code that recurses once per level of the input (the scene parser
+/// follows nested groups): a sanitizer build needs about 10 KiB of stack per level, so the
+/// nesting limit would not fit in a default 8 MiB stack. The memory is reserved, and only the
+/// pages actually used are committed.
+void call_with_stack(size_t stack_bytes, const std::function<void()>& work);
+
+/// Stack for the recursive passes over a scene: 128 MiB, a dozen times what the nesting limit
+/// needs in a sanitizer build.
+constexpr size_t kDeepRecursionStackBytes = size_t{128} << 20;
+
 }  // namespace raycast

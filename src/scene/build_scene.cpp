@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "base/limits.h"
+#include "base/parallel.h"
 #include "bvh/build_bvh.h"
 
 namespace raycast {
@@ -83,7 +85,7 @@ private:
         for (const LightDesc& l : desc_.lights) {
             Light light;
             light.kind = l.kind == LightDesc::Kind::Directional ? Light::Kind::Directional : Light::Kind::Point;
-            light.direction = normalize(l.direction);
+            light.direction = normalize_any_length(l.direction);
             light.position = l.position;
             light.color = l.color;
             light.attenuation = l.attenuation;
@@ -149,6 +151,7 @@ private:
                 bounds_.push_back({pad(moved ? transformed_sphere_bounds(world_from_object, object.sphere)
                                              : sphere_bounds(object.sphere)),
                                    id});
+                check_extent(object, bounds_.back().bounds);
                 break;
             case ObjectDesc::Kind::Plane: {
                 // n·(M⁻¹p) = d for object-space points is the world plane (M⁻ᵀn)·p = d − n·(M⁻¹'s
@@ -176,20 +179,37 @@ private:
                 Bounds3f b;
                 for (const Vec3f& p : object.vertices) b.grow(moved ? transform_point(world_from_object, p) : p);
                 bounds_.push_back({pad(b), id});
+                check_extent(object, b);
                 break;
             }
             case ObjectDesc::Kind::TriangleMesh: {
                 instance.kind = ShapeKind::Mesh;
                 instance.shape = mesh_shape(object.mesh);
                 const Bounds3f local = scene_.meshes[instance.shape].bounds;
-                if (!local.is_empty())
+                if (!local.is_empty()) {
                     bounds_.push_back({pad(moved ? transform_bounds(world_from_object, local) : local), id});
+                    check_extent(object, bounds_.back().bounds);
+                }
                 break;
             }
             default:
                 return;
         }
         scene_.instances.push_back(instance);
+    }
+
+    // Past kMaxCoordinate the float products in the intersection tests overflow and objects would
+    // silently vanish: refuse them where they are written.
+    void check_extent(const ObjectDesc& object, const Bounds3f& world_bounds) {
+        if (world_bounds.is_empty()) return;
+        float largest = 0;
+        for (int axis = 0; axis < 3; ++axis)
+            largest = std::fmax(largest, std::fmax(std::fabs(world_bounds.lower[axis]), std::fabs(world_bounds.upper[axis])));
+        if (!(largest <= kMaxCoordinate))
+            errors_.push_back(error_at(object.location,
+                                       string_printf("this object reaches coordinates of %g, beyond raycast's limit of "
+                                                     "%g (float arithmetic would overflow): scale the scene down",
+                                                     double(largest), double(kMaxCoordinate))));
     }
 
     uint32_t mesh_shape(int mesh_index) {
@@ -219,7 +239,15 @@ private:
 
 }  // namespace
 
-Scene build_scene(SceneDesc desc, const SceneBuildOptions& options) { return SceneBuilder(desc, options).build(); }
+Scene build_scene(SceneDesc desc, const SceneBuildOptions& options) {
+    // The builder walks the object tree recursively, one level per nested group or transform.
+    Scene scene;
+    call_with_stack(kDeepRecursionStackBytes, [&] {
+        scene = SceneBuilder(desc, options).build();
+        desc = SceneDesc{};  // the tree's recursive destructor runs here too
+    });
+    return scene;
+}
 
 MeshShape build_mesh_shape(TriangleMesh mesh, int threads) {
     MeshShape shape;

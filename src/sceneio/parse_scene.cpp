@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "base/limits.h"
+#include "base/parallel.h"
 #include "base/parse_number.h"
 #include "sceneio/lexer.h"
 
@@ -169,7 +170,7 @@ private:
         const NumberResult result = parse_int(first, last, value);
         if (token.is_end() || result.status == NumberStatus::Invalid || result.end != last)
             fail(token, "expected a whole number for " + quote_token(field) + ", got " + describe(token));
-        if (result.status == NumberStatus::OutOfRange || value > (int64_t{1} << 31) || value < -(int64_t{1} << 31))
+        if (result.status == NumberStatus::OutOfRange || value > INT32_MAX || value < INT32_MIN)
             fail(token, "number " + quote_token(token.text) + " for " + quote_token(field) + " is out of range");
         return value;
     }
@@ -321,12 +322,12 @@ private:
                           false});
         const Token close = finish_fields(keyword, fields);
         // Values are checked once all are known.
-        if (fields[1].seen && dot(camera.direction, camera.direction) == 0)
+        if (fields[1].seen && is_zero(camera.direction))
             error(direction_token, "the camera 'direction' must not be the zero vector");
-        else if (fields[2].seen && dot(camera.up, camera.up) == 0)
+        else if (fields[2].seen && is_zero(camera.up))
             error(up_token, "the camera 'up' must not be the zero vector");
         else if (fields[1].seen && fields[2].seen) {
-            const Vec3f d = normalize(camera.direction), u = normalize(camera.up);
+            const Vec3f d = normalize_any_length(camera.direction), u = normalize_any_length(camera.up);
             if (length(cross(d, u)) < 1e-6f)
                 error(up_token, "the camera 'up' is parallel to 'direction': the image would have no up; "
                                 "choose an up vector that is not");
@@ -408,7 +409,7 @@ private:
                 {"color", [&](const Token&) { light.color = read_vec3("color"); }},
             };
             finish_fields(keyword, fields);
-            if (fields[0].seen && dot(light.direction, light.direction) == 0)
+            if (fields[0].seen && is_zero(light.direction))
                 error(direction_token, "the light's 'direction' must not be the zero vector");
         } else if (keyword.is("PointLight")) {
             light.kind = LightDesc::Kind::Point;
@@ -608,7 +609,7 @@ private:
                 {"offset", [&](const Token&) { object.plane.offset = read_float("offset"); }},
             };
             finish_fields(keyword, fields);
-            if (fields[0].seen && dot(object.plane.normal, object.plane.normal) == 0)
+            if (fields[0].seen && is_zero(object.plane.normal))
                 error(normal_token, "the plane's 'normal' must not be the zero vector");
         } else if (keyword.is("Triangle")) {
             object.kind = ObjectDesc::Kind::Triangle;
@@ -725,7 +726,11 @@ private:
 }  // namespace
 
 SceneDesc parse_scene(std::string_view text, const std::string& file_name) {
-    return Parser(text, file_name).parse();
+    // The parser recurses once per nesting level (up to kMaxNestingDepth): give it a stack that
+    // holds that many levels in any build.
+    SceneDesc desc;
+    call_with_stack(kDeepRecursionStackBytes, [&] { desc = Parser(text, file_name).parse(); });
+    return desc;
 }
 
 }  // namespace raycast
