@@ -16,6 +16,10 @@ constexpr int kMaxNestingDepth = 1000;
 /// A scene file stops being parsed after this many errors.
 constexpr int kMaxReportedErrors = 20;
 
+/// Objects must lie within ±1e18 of the origin (after their transforms): the intersection tests
+/// multiply coordinate differences, and beyond this the products overflow single precision.
+constexpr float kMaxCoordinate = 1e18f;
+
 /// Largest scene file read (meshes belong in OBJ files, which have no such limit).
 constexpr int64_t kMaxSceneFileBytes = int64_t{256} << 20;
 
