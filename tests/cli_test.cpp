@@ -1,0 +1,512 @@
+// End-to-end tests of the raycast command line, run as a separate process: help and version, usage
+// errors (exit 2 and a message), the course's and MIT 6.837's forms, the image format chosen by the
+// output's extension, --stats, --quiet, thread-count independence, the `compare` tool, and the
+// promise that a failed run never leaves or damages an output file. The expectations come from
+// --help, README.md and docs/limits.md (exit 0 success, 1 input or output error, 2 usage error).
+#include <dirent.h>
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cstdint>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "test_support.h"
+
+namespace raycast::test {
+namespace {
+
+// A sphere in front of a floor plane, a quad mesh (two triangles) and a point light: every kind of
+// primitive, so that thread and packet differences would show.
+const char* const kScene = R"(PerspectiveCamera {
+    center 0 0 10
+    direction 0 0 -1
+    up 0 1 0
+    angle 30
+    width 32
+    height 24
+}
+Lights {
+    numLights 1
+    PointLight { position 2 5 5 color 0.9 0.9 0.9 }
+}
+Background { color 0.1 0.2 0.3 }
+Materials {
+    numMaterials 2
+    Material { diffuseColor 1 0 0 specularColor 1 1 1 shininess 20 }
+    Material { diffuseColor 0 1 0 }
+}
+Group {
+    numObjects 3
+    MaterialIndex 0
+    Sphere { center 0 0 0 radius 1 }
+    MaterialIndex 1
+    Plane { normal 0 1 0 offset -1 }
+    TriangleMesh { obj_file quad.obj }
+}
+)";
+
+// One quadrilateral face: a polygon is cut into a fan, so the mesh has 2 triangles.
+const char* const kQuadObj = "v -2 -1 -2\nv 2 -1 -2\nv 2 2 -2\nv -2 2 -2\nf 1 2 3 4\n";
+
+// A scene with no lights and no ambient light: raycast warns that everything will be black.
+const char* const kDarkScene =
+    R"(PerspectiveCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 angle 30 width 8 height 8 }
+Materials { numMaterials 1 Material { diffuseColor 1 1 1 } }
+Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }
+)";
+
+std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
+
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+}
+
+std::set<std::string> files_in(const std::string& dir) {
+    std::set<std::string> names;
+    if (DIR* d = ::opendir(dir.c_str())) {
+        while (const dirent* entry = ::readdir(d)) {
+            const std::string name = entry->d_name;
+            if (name != "." && name != "..") names.insert(name);
+        }
+        ::closedir(d);
+    }
+    return names;
+}
+
+// A temp folder holding kScene as s.txt and its mesh.
+std::string scene_dir(const std::string& name) {
+    const std::string dir = temp_dir("cli/" + name);
+    write_file(dir + "/s.txt", kScene);
+    write_file(dir + "/quad.obj", kQuadObj);
+    return dir;
+}
+
+struct Ppm {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;
+    bool ok = false;
+};
+
+// Reads a binary PPM (P6, maxval 255) by the format's rules, independently of raycast's reader.
+Ppm parse_ppm(const std::string& bytes) {
+    Ppm ppm;
+    size_t pos = 0;
+    auto skip_space_and_comments = [&] {
+        while (pos < bytes.size()) {
+            if (bytes[pos] == '#') {
+                while (pos < bytes.size() && bytes[pos] != '\n') ++pos;
+            } else if (std::isspace(static_cast<unsigned char>(bytes[pos]))) {
+                ++pos;
+            } else {
+                break;
+            }
+        }
+    };
+    auto number = [&] {
+        skip_space_and_comments();
+        int value = 0;
+        while (pos < bytes.size() && std::isdigit(static_cast<unsigned char>(bytes[pos])))
+            value = value * 10 + (bytes[pos++] - '0');
+        return value;
+    };
+    if (bytes.compare(0, 2, "P6") != 0) return ppm;
+    pos = 2;
+    ppm.width = number();
+    ppm.height = number();
+    const int maxval = number();
+    ++pos;  // the single whitespace byte before the pixels
+    const size_t size = 3 * static_cast<size_t>(ppm.width) * static_cast<size_t>(ppm.height);
+    if (maxval != 255 || pos + size != bytes.size()) return ppm;
+    ppm.rgb.assign(bytes.begin() + static_cast<std::ptrdiff_t>(pos), bytes.end());
+    ppm.ok = true;
+    return ppm;
+}
+
+std::string make_ppm(int width, int height, const std::vector<uint8_t>& rgb) {
+    std::string bytes = "P6\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
+    bytes.append(rgb.begin(), rgb.end());
+    return bytes;
+}
+
+uint32_t le32(const std::string& bytes, size_t at) {
+    uint32_t v = 0;
+    for (size_t i = 0; i < 4; ++i) v |= static_cast<uint32_t>(static_cast<uint8_t>(bytes[at + i])) << (8 * i);
+    return v;
+}
+
+uint32_t le16(const std::string& bytes, size_t at) {
+    return static_cast<uint32_t>(static_cast<uint8_t>(bytes[at])) |
+           static_cast<uint32_t>(static_cast<uint8_t>(bytes[at + 1])) << 8;
+}
+
+// ---- help, version, usage errors -------------------------------------------------------------
+
+TEST(CliTest, HelpPrintsTheUsageAndExitsZero) {
+    for (const char* flag : {"--help", "-h"}) {
+        SCOPED_TRACE(flag);
+        const RunResult run = run_raycast(flag);
+        EXPECT_EQ(run.exit_code, 0);
+        EXPECT_EQ(first_line(run.output), "usage: raycast [options] SCENE OUTPUT");
+        EXPECT_NE(run.output.find("Exit status: 0 success, 1 input or output error, 2 usage error."),
+                  std::string::npos);
+        EXPECT_NE(run.output.find("--stats"), std::string::npos);
+    }
+}
+
+TEST(CliTest, VersionPrintsOneLineAndExitsZero) {
+    const RunResult run = run_raycast("--version");
+    EXPECT_EQ(run.exit_code, 0);
+    EXPECT_EQ(run.output.rfind("raycast ", 0), 0u) << run.output;
+    EXPECT_EQ(lines_of(run.output).size(), 1u) << run.output;
+}
+
+TEST(CliTest, UsageErrorsExitTwoWithAMessageAndAHint) {
+    const std::string dir = scene_dir("usage_errors");
+    const std::pair<const char*, const char*> cases[] = {
+        {"", "missing SCENE and OUTPUT"},
+        {"s.txt", "missing OUTPUT (the image to write)"},
+        {"s.txt o.ppm extra.ppm", "unexpected argument 'extra.ppm'"},
+        {"--bogus s.txt o.ppm", "unknown option '--bogus'"},
+        {"s.txt o.ppm --threads", "--threads needs a value"},
+        {"s.txt o.ppm --size", "--size needs a value"},
+        {"--threads 0 s.txt o.ppm", "--threads must be at least 1, got 0"},
+        {"--threads abc s.txt o.ppm", "--threads needs a whole number, got 'abc'"},
+        {"-j -2 s.txt o.ppm", "-j must be at least 1, got -2"},
+        {"--size 0x0 s.txt o.ppm", "--size width must be at least 1, got 0"},
+        {"--size 10 s.txt o.ppm", "--size needs WIDTHxHEIGHT, e.g. 640x480, got '10'"},
+        {"--size 10x s.txt o.ppm", "--size height needs a whole number, got ''"},
+        {"--size 16385x10 s.txt o.ppm", "--size width must be at most 16384, got 16385"},
+        {"--mode fancy s.txt o.ppm", "--mode must be shaded, normals, depth, material or cost, got 'fancy'"},
+    };
+    for (const auto& [arguments, message] : cases) {
+        SCOPED_TRACE(arguments);
+        const RunResult run = run_raycast(arguments, dir);
+        EXPECT_EQ(run.exit_code, 2);
+        const std::vector<std::string> lines = lines_of(run.output);
+        ASSERT_EQ(lines.size(), 2u) << run.output;
+        EXPECT_EQ(lines[0], std::string("raycast: usage error: ") + message);
+        EXPECT_EQ(lines[1], "Try 'raycast --help' for more information.");
+        EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj"}));
+    }
+}
+
+// ---- MIT 6.837's form ------------------------------------------------------------------------
+
+TEST(CliTest, MitFormRendersAtTheSizeGiven) {
+    const std::string dir = scene_dir("mit_form");
+    const RunResult run = run_raycast("-input s.txt -size 64 48 -output o.ppm", dir);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    const Ppm image = parse_ppm(read_file(dir + "/o.ppm"));
+    ASSERT_TRUE(image.ok);
+    EXPECT_EQ(image.width, 64);
+    EXPECT_EQ(image.height, 48);
+}
+
+TEST(CliTest, BadMitCommandLinesExitTwo) {
+    const std::string dir = scene_dir("mit_errors");
+    const std::pair<const char*, const char*> cases[] = {
+        {"-size 64 64 -output o.ppm", "-input SCENE is missing"},
+        {"-input s.txt -size 0 0 -output o.ppm", "-size width must be at least 1, got 0"},
+        {"-input s.txt -size 64 -output o.ppm", "-size height needs a whole number, got '-output'"},
+        {"-input s.txt -size 64 64 -depth 1 2", "-depth NEAR FAR FILE needs a value"},
+        {"-input s.txt -size 64 64 -depth near 2 d.ppm", "-depth NEAR needs a number, got 'near'"},
+        {"-input s.txt -size 64 64", "nothing to write: give -output FILE (or -depth NEAR FAR FILE, or -normals FILE)"},
+        {"-input s.txt -size 64 64 -output", "-output needs a value"},
+        {"-input s.txt -output o.ppm extra.ppm",
+         "unexpected argument 'extra.ppm' (with -input, name files with -output)"},
+    };
+    for (const auto& [arguments, message] : cases) {
+        SCOPED_TRACE(arguments);
+        const RunResult run = run_raycast(arguments, dir);
+        EXPECT_EQ(run.exit_code, 2);
+        EXPECT_EQ(first_line(run.output), std::string("raycast: usage error: ") + message);
+        EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj"}));
+    }
+}
+
+// ---- output formats --------------------------------------------------------------------------
+
+TEST(CliTest, OutputFormatFollowsTheExtension) {
+    const std::string dir = scene_dir("formats");
+    // 30 pixels wide, so that BMP rows (90 bytes) need 2 bytes of padding to reach 92.
+    for (const char* name : {"o.bmp", "o.ppm", "o.tga", "upper.BMP"}) {
+        const RunResult run = run_raycast(std::string("s.txt ") + name + " --size 30x24 -q", dir);
+        ASSERT_EQ(run.exit_code, 0) << name << ": " << run.output;
+        EXPECT_EQ(run.output, "");
+    }
+    const std::string bmp = read_file(dir + "/o.bmp");
+    ASSERT_GE(bmp.size(), 54u);
+    EXPECT_EQ(bmp.substr(0, 2), "BM");
+    EXPECT_EQ(bmp.size(), 54u + 92u * 24u);  // 14 + 40 header bytes, 24 rows of 92 bytes
+    EXPECT_EQ(le32(bmp, 2), bmp.size());
+    EXPECT_EQ(le32(bmp, 18), 30u);
+    EXPECT_EQ(static_cast<int32_t>(le32(bmp, 22)) < 0 ? -static_cast<int32_t>(le32(bmp, 22))
+                                                      : static_cast<int32_t>(le32(bmp, 22)),
+              24);
+    EXPECT_EQ(le16(bmp, 28), 24u);  // bits per pixel
+    EXPECT_EQ(read_file(dir + "/upper.BMP"), bmp);
+
+    const Ppm ppm = parse_ppm(read_file(dir + "/o.ppm"));
+    ASSERT_TRUE(ppm.ok);
+    EXPECT_EQ(ppm.width, 30);
+    EXPECT_EQ(ppm.height, 24);
+
+    const std::string tga = read_file(dir + "/o.tga");
+    ASSERT_GE(tga.size(), 18u + 3u * 30u * 24u);
+    EXPECT_EQ(static_cast<uint8_t>(tga[2]), 2u);  // uncompressed true colour
+    EXPECT_EQ(le16(tga, 12), 30u);
+    EXPECT_EQ(le16(tga, 14), 24u);
+    EXPECT_EQ(static_cast<uint8_t>(tga[16]), 24u);
+
+    // The three files hold the same pixels.
+    for (const char* other : {"o.bmp", "o.tga"}) {
+        const RunResult run = run_raycast(std::string("compare o.ppm ") + other, dir);
+        EXPECT_EQ(run.exit_code, 0) << run.output;
+        EXPECT_NE(run.output.find("differing pixels: 0 of 720 (0.0000%)"), std::string::npos) << run.output;
+    }
+}
+
+#ifdef RAYCAST_HAVE_PNG
+TEST(CliTest, PngOutputHoldsTheSamePixelsAsPpm) {
+    const std::string dir = scene_dir("png");
+    ASSERT_EQ(run_raycast("s.txt o.png -q", dir).exit_code, 0);
+    ASSERT_EQ(run_raycast("s.txt o.ppm -q", dir).exit_code, 0);
+    EXPECT_EQ(read_file(dir + "/o.png").substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+    const RunResult run = run_raycast("compare o.ppm o.png", dir);
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_NE(run.output.find("differing pixels: 0 of 768"), std::string::npos) << run.output;
+}
+#else
+TEST(CliTest, PngOutputWithoutLibpngIsAnOutputError) {
+    const std::string dir = scene_dir("png");
+    const RunResult run = run_raycast("s.txt o.png", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(
+        first_line(run.output),
+        "o.png: error: PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
+    EXPECT_FALSE(file_exists(dir + "/o.png"));
+}
+#endif
+
+TEST(CliTest, UnknownOrMissingExtensionIsAUsageErrorAndWritesNothing) {
+    const std::string dir = scene_dir("bad_extension");
+    const std::pair<const char*, const char*> cases[] = {
+        {"s.txt o.jpg", "unknown image format '.jpg' for 'o.jpg': use .bmp, .ppm, .tga or .png"},
+        {"s.txt image", "cannot tell the image format of 'image': name it .bmp, .ppm, .tga or .png"},
+        {"s.txt out.d/image", "cannot tell the image format of 'out.d/image': name it .bmp, .ppm, .tga or .png"},
+    };
+    for (const auto& [arguments, message] : cases) {
+        SCOPED_TRACE(arguments);
+        const RunResult run = run_raycast(arguments, dir);
+        EXPECT_EQ(run.exit_code, 2);
+        EXPECT_EQ(first_line(run.output), std::string("raycast: usage error: ") + message);
+        EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj"}));
+    }
+}
+
+// ---- --stats, --quiet, threads ---------------------------------------------------------------
+
+std::map<std::string, std::string> stats_fields(const std::string& line) {
+    std::map<std::string, std::string> fields;
+    std::istringstream in(line.substr(std::string("raycast-stats ").size()));
+    for (std::string field; in >> field;) {
+        const size_t eq = field.find('=');
+        if (eq != std::string::npos) fields[field.substr(0, eq)] = field.substr(eq + 1);
+    }
+    return fields;
+}
+
+TEST(CliTest, StatsPrintsOneLineWithTheDocumentedKeys) {
+    const std::string dir = scene_dir("stats");
+    const RunResult run = run_raycast("s.txt o.ppm --stats --threads 2", dir);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    const std::vector<std::string> lines = lines_of(run.output);
+    ASSERT_EQ(lines.size(), 1u) << run.output;
+    ASSERT_EQ(lines[0].rfind("raycast-stats ", 0), 0u) << lines[0];
+    const std::map<std::string, std::string> fields = stats_fields(lines[0]);
+    for (const char* key : {"load_ms", "build_ms", "render_ms", "rays", "mrays_per_s", "triangles", "threads"}) {
+        SCOPED_TRACE(key);
+        ASSERT_EQ(fields.count(key), 1u) << lines[0];
+        EXPECT_GE(std::stod(fields.at(key)), 0.0);
+    }
+    EXPECT_EQ(fields.at("rays"), "768");     // one primary ray per pixel: 32 × 24, no shadow rays
+    EXPECT_EQ(fields.at("triangles"), "2");  // the quad, cut into two triangles
+    EXPECT_EQ(fields.at("threads"), "2");
+}
+
+TEST(CliTest, StatsStillPrintsWithQuiet) {
+    const std::string dir = scene_dir("stats_quiet");
+    write_file(dir + "/dark.txt", kDarkScene);
+    const RunResult run = run_raycast("dark.txt o.ppm --stats -q --threads 1", dir);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    const std::vector<std::string> lines = lines_of(run.output);
+    ASSERT_EQ(lines.size(), 1u) << run.output;
+    EXPECT_EQ(lines[0].rfind("raycast-stats ", 0), 0u);
+    EXPECT_EQ(stats_fields(lines[0]).at("rays"), "64");
+    EXPECT_EQ(stats_fields(lines[0]).at("threads"), "1");
+}
+
+TEST(CliTest, QuietPrintsNothingOnSuccess) {
+    const std::string dir = scene_dir("quiet");
+    write_file(dir + "/dark.txt", kDarkScene);
+    // Without -q the missing lights are worth a warning (course form; MIT's conventions light such
+    // a scene with a white ambient instead), and MIT's -gui a note ...
+    const RunResult warned = run_raycast("dark.txt loud.ppm", dir);
+    ASSERT_EQ(warned.exit_code, 0) << warned.output;
+    EXPECT_EQ(warned.output,
+              "dark.txt: warning: the scene has no lights and no ambient light: every object will be black\n");
+    const RunResult noted = run_raycast("-input dark.txt -output loud_mit.ppm -gui", dir);
+    ASSERT_EQ(noted.exit_code, 0) << noted.output;
+    EXPECT_EQ(noted.output, "raycast: note: -gui is ignored: raycast has no OpenGL preview\n");
+    // ... and with it nothing is printed at all, while the images are the same.
+    for (const char* quiet : {"-q", "--quiet"}) {
+        SCOPED_TRACE(quiet);
+        RunResult run = run_raycast(std::string("dark.txt quiet.ppm ") + quiet, dir);
+        EXPECT_EQ(run.exit_code, 0);
+        EXPECT_EQ(run.output, "");
+        EXPECT_EQ(read_file(dir + "/quiet.ppm"), read_file(dir + "/loud.ppm"));
+        run = run_raycast(std::string("-input dark.txt -output quiet_mit.ppm -gui ") + quiet, dir);
+        EXPECT_EQ(run.exit_code, 0);
+        EXPECT_EQ(run.output, "");
+        EXPECT_EQ(read_file(dir + "/quiet_mit.ppm"), read_file(dir + "/loud_mit.ppm"));
+    }
+}
+
+TEST(CliTest, OneThreadAndTwoThreadsWriteTheSameImage) {
+    const std::string dir = scene_dir("threads");
+    ASSERT_EQ(run_raycast("s.txt one.ppm --threads 1 --shadows -q", dir).exit_code, 0);
+    ASSERT_EQ(run_raycast("s.txt two.ppm --threads 2 --shadows -q --tile 5", dir).exit_code, 0);
+    ASSERT_EQ(run_raycast("s.txt scalar.ppm -j 2 --shadows -q --no-packets", dir).exit_code, 0);
+    const std::string one = read_file(dir + "/one.ppm");
+    ASSERT_TRUE(parse_ppm(one).ok);
+    EXPECT_EQ(read_file(dir + "/two.ppm"), one);
+    EXPECT_EQ(read_file(dir + "/scalar.ppm"), one);
+    // The image is not trivially uniform: the sphere, floor, quad and background all show.
+    std::set<std::vector<uint8_t>> colours;
+    const Ppm image = parse_ppm(one);
+    for (size_t i = 0; i + 2 < image.rgb.size(); i += 3)
+        colours.insert({image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]});
+    EXPECT_GT(colours.size(), 4u);
+}
+
+// ---- compare ---------------------------------------------------------------------------------
+
+// A: four pixels of (10, 20, 30). B: pixel 1 is (13, 20, 40), off by 3 and 10; pixel 2 is (11, 20, 30),
+// off by 1. By hand: 2 of 4 pixels differ (50%), 1 by more than 1 level, max error 10, mean error
+// (3 + 10 + 1) / 12 channels = 1.166667, MSE 110 / 12, PSNR 10·log10(255² / (110/12)) = 38.5087 dB.
+const std::vector<uint8_t> kA = {10, 20, 30, 10, 20, 30, 10, 20, 30, 10, 20, 30};
+const std::vector<uint8_t> kB = {10, 20, 30, 13, 20, 40, 11, 20, 30, 10, 20, 30};
+
+TEST(CliTest, CompareReportsIdenticalImages) {
+    const std::string dir = temp_dir("cli/compare_same");
+    write_file(dir + "/a.ppm", make_ppm(2, 2, kA));
+    write_file(dir + "/a2.ppm", make_ppm(2, 2, kA));
+    const RunResult run = run_raycast("compare a.ppm a2.ppm", dir);
+    EXPECT_EQ(run.exit_code, 0);
+    EXPECT_EQ(run.output,
+              "compared a.ppm and a2.ppm (2x2)\n"
+              "differing pixels: 0 of 4 (0.0000%)\n"
+              "pixels off by more than 1 level: 0\n"
+              "max error: 0 levels\n"
+              "mean error: 0.000000 levels\n"
+              "PSNR: inf (identical)\n");
+}
+
+TEST(CliTest, CompareCountsDifferingPixelsAndStillExitsZero) {
+    const std::string dir = temp_dir("cli/compare_differ");
+    write_file(dir + "/a.ppm", make_ppm(2, 2, kA));
+    write_file(dir + "/b.ppm", make_ppm(2, 2, kB));
+    const RunResult run = run_raycast("compare a.ppm b.ppm", dir);
+    EXPECT_EQ(run.exit_code, 0);  // documented: 0 is success; a difference is a result, not an error
+    EXPECT_EQ(run.output,
+              "compared a.ppm and b.ppm (2x2)\n"
+              "differing pixels: 2 of 4 (50.0000%)\n"
+              "pixels off by more than 1 level: 1\n"
+              "max error: 10 levels\n"
+              "mean error: 1.166667 levels\n"
+              "PSNR: 38.51 dB\n");
+}
+
+TEST(CliTest, CompareDiffWritesAHeatMap) {
+    const std::string dir = temp_dir("cli/compare_diff");
+    write_file(dir + "/a.ppm", make_ppm(2, 2, kA));
+    write_file(dir + "/b.ppm", make_ppm(2, 2, kB));
+    const RunResult run = run_raycast("compare a.ppm b.ppm --diff d.ppm", dir);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    const Ppm diff = parse_ppm(read_file(dir + "/d.ppm"));
+    ASSERT_TRUE(diff.ok);
+    ASSERT_EQ(diff.width, 2);
+    ASSERT_EQ(diff.height, 2);
+    auto pixel = [&](size_t i) { return std::vector<uint8_t>(diff.rgb.begin() + 3 * i, diff.rgb.begin() + 3 * i + 3); };
+    EXPECT_EQ(pixel(0), (std::vector<uint8_t>{0, 0, 0}));  // equal: black
+    EXPECT_EQ(pixel(3), (std::vector<uint8_t>{0, 0, 0}));
+    EXPECT_EQ(pixel(1), (std::vector<uint8_t>{255, 255, 255}));  // the largest difference: white
+    const std::vector<uint8_t> small = pixel(2);                 // 1 level: dark blue, never black
+    EXPECT_GT(small[2], 0);
+    EXPECT_GE(small[2], small[0]);
+    EXPECT_GE(small[2], small[1]);
+    EXPECT_NE(small, (std::vector<uint8_t>{255, 255, 255}));
+}
+
+TEST(CliTest, CompareErrorsAreReported) {
+    const std::string dir = temp_dir("cli/compare_errors");
+    write_file(dir + "/a.ppm", make_ppm(2, 2, kA));
+    write_file(dir + "/wide.ppm", make_ppm(3, 2, std::vector<uint8_t>(18, 7)));
+
+    RunResult run = run_raycast("compare a.ppm wide.ppm", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(first_line(run.output), "wide.ppm: error: cannot compare: it is 3x2 but 'a.ppm' is 2x2");
+
+    run = run_raycast("compare a.ppm missing.ppm", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(first_line(run.output).rfind("missing.ppm: error: ", 0), 0u) << run.output;
+
+    run = run_raycast("compare a.ppm", dir);
+    EXPECT_EQ(run.exit_code, 2);
+    EXPECT_EQ(first_line(run.output), "raycast: usage error: compare needs two images: raycast compare A B");
+
+    run = run_raycast("compare a.ppm a.ppm --diff a.ppm", dir);
+    EXPECT_EQ(run.exit_code, 2);
+    EXPECT_EQ(first_line(run.output),
+              "raycast: usage error: the output 'a.ppm' is an image being compared itself: choose another name");
+    EXPECT_EQ(read_file(dir + "/a.ppm"), make_ppm(2, 2, kA));
+}
+
+// ---- failed runs and existing outputs ---------------------------------------------------------
+
+TEST(CliTest, AFailedRunNeverDamagesAnExistingOutput) {
+    const std::string dir = scene_dir("failed_run");
+    write_file(dir + "/bad.txt", "PerspectiveCamera { center 0 0 10 direction 0 0\n");
+    const std::string precious = "precious bytes, not an image\n";
+    write_file(dir + "/o.ppm", precious);
+    const std::pair<const char*, int> cases[] = {
+        {"bad.txt o.ppm", 1},                               // the scene does not parse
+        {"missing.txt o.ppm", 1},                           // no scene at all
+        {"s.txt o.ppm --depth /nonexistent/dir/d.ppm", 1},  // a second output cannot be written
+        {"s.txt o.ppm --crop 0,0,100,100", 2},              // found only after the scene is loaded
+        {"-input bad.txt -size 8 8 -output o.ppm", 1},
+        {"s.txt o.ppm --threads 0", 2},
+    };
+    for (const auto& [arguments, exit_code] : cases) {
+        SCOPED_TRACE(arguments);
+        const RunResult run = run_raycast(arguments, dir);
+        EXPECT_EQ(run.exit_code, exit_code) << run.output;
+        EXPECT_EQ(read_file(dir + "/o.ppm"), precious);
+        // No temporary file is left behind either.
+        EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "bad.txt", "o.ppm"}));
+    }
+    // A successful run replaces it.
+    ASSERT_EQ(run_raycast("s.txt o.ppm -q", dir).exit_code, 0);
+    EXPECT_TRUE(parse_ppm(read_file(dir + "/o.ppm")).ok);
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "bad.txt", "o.ppm"}));
+}
+
+}  // namespace
+}  // namespace raycast::test
