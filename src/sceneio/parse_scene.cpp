@@ -246,6 +246,7 @@ private:
         const int depth = lexer_.depth();
         try {
             if (keyword.is("PerspectiveCamera") || keyword.is("OrthographicCamera")) {
+                camera_block_seen_ = true;
                 parse_camera(keyword);
             } else if (keyword.is("Background")) {
                 parse_background(keyword);
@@ -254,6 +255,7 @@ private:
             } else if (keyword.is("Materials")) {
                 parse_materials(keyword);
             } else if (keyword.is("Group")) {
+                group_block_seen_ = true;
                 if (desc_.root) warning(keyword, string_printf("this Group replaces the one at line %d", desc_.root->location.line));
                 desc_.root = parse_group(keyword);
             } else if (keyword.is("}")) {
@@ -269,11 +271,12 @@ private:
 
     void check_complete() {
         const SourceLocation file_only{lexer_.file_name(), 0, 0};
-        if (!desc_.camera)
+        // A camera or Group block that had errors is not also reported as missing.
+        if (!desc_.camera && !camera_block_seen_)
             diagnostics_.push_back(
                 {Severity::Error, file_only, "the scene has no camera: add a PerspectiveCamera block", ""}),
                 ++error_count_;
-        if (!desc_.root)
+        if (!desc_.root && !group_block_seen_)
             diagnostics_.push_back({Severity::Error, file_only, "the scene has no Group: there is nothing to render", ""}),
                 ++error_count_;
     }
@@ -390,7 +393,16 @@ private:
             if (token.is_end()) fail_unclosed(token, keyword);
             if (static_cast<int64_t>(desc_.lights.size()) == count)
                 error(token, string_printf("numLights is %lld but more lights follow", (long long)count));
-            desc_.lights.push_back(parse_light(token));
+            const int inner_depth = lexer_.depth();
+            try {
+                desc_.lights.push_back(parse_light(token));
+            } catch (const Abandon&) {
+                if (lexer_.peek().is_end()) throw;  // reported once, not again for Lights
+                desc_.lights.push_back(LightDesc{});  // holds its place in the count
+                recover(inner_depth, [](const Token& t) {
+                    return t.is("}") || t.is("DirectionalLight") || t.is("PointLight");
+                });
+            }
         }
     }
 
@@ -453,7 +465,18 @@ private:
             if (token.is_end()) fail_unclosed(token, keyword);
             if (static_cast<int64_t>(desc_.materials.size()) == count)
                 error(token, string_printf("numMaterials is %lld but more materials follow", (long long)count));
-            desc_.materials.push_back(parse_material(token));
+            // A material with an error still takes its place, so that the count and the indices
+            // of the materials after it stay right.
+            const int inner_depth = lexer_.depth();
+            try {
+                desc_.materials.push_back(parse_material(token));
+            } catch (const Abandon&) {
+                if (lexer_.peek().is_end()) throw;  // reported once, not again for Materials
+                desc_.materials.push_back(MaterialDesc{});
+                recover(inner_depth, [](const Token& t) {
+                    return t.is("}") || t.is("Material") || t.is("PhongMaterial");
+                });
+            }
         }
     }
 
@@ -544,6 +567,7 @@ private:
                 }
                 if (!is_one_of(token.text, kObjectKeywords)) {
                     lexer_.take();
+                    ++objects;  // a misspelt object is still one of the numObjects
                     std::vector<std::string> candidates = to_strings(kObjectKeywords);
                     candidates.push_back("MaterialIndex");
                     fail(token, "unknown object " + quote_token(token.text) + suggestion(token.text, candidates));
@@ -565,6 +589,8 @@ private:
         const int64_t index = read_int("MaterialIndex");
         const int64_t available = static_cast<int64_t>(desc_.materials.size());
         if (index < 0 || index >= available) {
+            // The objects that follow are not also reported as having no material.
+            current_material_ = kMaterialInError;
             if (available == 0)
                 fail(value, string_printf("material index %lld is out of range: no materials are defined before "
                                           "this point (Materials must come before the Group)",
@@ -636,7 +662,7 @@ private:
             };
             finish_fields(keyword, fields);
         }
-        if (object.material < 0)
+        if (object.material == kNoMaterial)
             error(keyword, std::string(keyword.text) + " has no material: put 'MaterialIndex i' before it");
         return object;
     }
@@ -719,7 +745,11 @@ private:
     SceneDesc desc_;
     std::vector<Diagnostic> diagnostics_;
     int error_count_ = 0;
-    int current_material_ = -1;
+    static constexpr int kNoMaterial = -1;       // no MaterialIndex yet
+    static constexpr int kMaterialInError = -2;  // the last MaterialIndex was wrong (and reported)
+    int current_material_ = kNoMaterial;
+    bool camera_block_seen_ = false;
+    bool group_block_seen_ = false;
     int nesting_ = 0;
 };
 
