@@ -1,7 +1,14 @@
 #include "bvh/build_bvh.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <new>
 
 #include "base/parallel.h"
 
@@ -100,26 +107,37 @@ public:
         return range;
     }
 
-    std::vector<BvhNode> build_all(const Range& all) {
-        // 1. Split the top of the tree, down to ranges smaller than kPieceSize (the pieces).
-        const ChildRef root = split_top(all, 0);
-        // 2. Build the pieces, each serially, as many at once as there are threads.
-        std::vector<std::vector<BvhNode>> piece_nodes(pieces_.size());
+    // 1. Splits the top of the tree, down to ranges smaller than kPieceSize (the pieces), then
+    // 2. builds the pieces, each serially, as many at once as there are threads. After this the
+    // primitives are in their final order and no longer needed.
+    void build_pieces(const Range& all) {
+        root_ = split_top(all, 0);
+        // Every piece gets room for its largest possible tree (2n - 1 nodes for n primitives) in
+        // one pool. Only the pages a piece fills are ever touched, so the pool costs about what the
+        // nodes do; and being one allocation, it goes back to the system when freed.
+        piece_offset_.resize(pieces_.size() + 1);
+        for (size_t i = 0; i < pieces_.size(); ++i)
+            piece_offset_[i + 1] = piece_offset_[i] + 2 * size_t{pieces_[i].range.size()};
+        // malloc, not new[]: BvhNode's initialisers would write (and so commit) every page.
+        pool_.reset(static_cast<BvhNode*>(std::malloc(piece_offset_.back() * sizeof(BvhNode))));
+        if (!pool_) throw std::bad_alloc();
+        piece_size_.assign(pieces_.size(), 0);
         parallel_for(pieces_.size(), threads_, [&](size_t i, int) {
-            std::vector<BvhNode> nodes;
-            // A subtree over n primitives has at most 2n - 1 nodes.
-            nodes.reserve(2 * size_t{pieces_[i].range.size()});
-            nodes.resize(1);
-            build(pieces_[i].range, nodes, 0, pieces_[i].depth);
-            piece_nodes[i] = std::vector<BvhNode>(nodes.begin(), nodes.end());  // exact size
+            NodeSink sink{pool_.get() + piece_offset_[i], 1};
+            build(pieces_[i].range, sink, 0, pieces_[i].depth);
+            piece_size_[i] = sink.size;
         });
-        // 3. Lay everything out in one array, freeing each piece once it is copied.
+    }
+
+    // 3. Lays everything out in one array and frees the pool.
+    std::vector<BvhNode> assemble() {
         size_t total = 2 * top_.size() + 1;
-        for (const std::vector<BvhNode>& p : piece_nodes) total += p.size() - 1;
+        for (uint32_t size : piece_size_) total += size - 1;
         std::vector<BvhNode> nodes;
         nodes.reserve(total);
         nodes.resize(1);
-        emit(root, nodes, 0, piece_nodes);
+        emit(root_, nodes, 0);
+        pool_.reset();
         return nodes;
     }
 
@@ -156,18 +174,18 @@ private:
     }
 
     // Writes the subtree `ref` with its root at nodes[slot]; children are appended.
-    void emit(ChildRef ref, std::vector<BvhNode>& nodes, size_t slot, std::vector<std::vector<BvhNode>>& piece_nodes) {
+    void emit(ChildRef ref, std::vector<BvhNode>& nodes, size_t slot) {
         if (ref < 0) {
-            std::vector<BvhNode>& piece = piece_nodes[static_cast<size_t>(~ref)];
+            const size_t piece = static_cast<size_t>(~ref);
+            const BvhNode* piece_nodes = pool_.get() + piece_offset_[piece];
             // In a piece node 0 is its root and the other nodes follow; inner nodes point within it.
             const uint32_t base = static_cast<uint32_t>(nodes.size());
             auto relocate = [base](BvhNode node) {
                 if (!node.is_leaf()) node.first = base + node.first - 1;
                 return node;
             };
-            nodes[slot] = relocate(piece[0]);
-            for (size_t i = 1; i < piece.size(); ++i) nodes.push_back(relocate(piece[i]));
-            piece = {};
+            nodes[slot] = relocate(piece_nodes[0]);
+            for (uint32_t i = 1; i < piece_size_[piece]; ++i) nodes.push_back(relocate(piece_nodes[i]));
             return;
         }
         const TopNode& top = top_[static_cast<size_t>(ref)];
@@ -176,32 +194,39 @@ private:
         nodes[slot].first = first;
         nodes[slot].count = 0;
         nodes.resize(nodes.size() + 2);
-        emit(top.child[0], nodes, first, piece_nodes);
-        emit(top.child[1], nodes, first + 1, piece_nodes);
+        emit(top.child[0], nodes, first);
+        emit(top.child[1], nodes, first + 1);
     }
 
-    // Builds the subtree for `range` with its root at nodes[root] (already allocated).
-    void build(const Range& range, std::vector<BvhNode>& nodes, uint32_t root, int depth) const {
-        nodes[root].bounds = pad_box(range.bounds);
+    // Where a piece's nodes go: node i at nodes[i], `size` of them so far.
+    struct NodeSink {
+        BvhNode* nodes;
+        uint32_t size;
+    };
+
+    // Builds the subtree for `range` with its root at sink.nodes[root] (already allocated).
+    void build(const Range& range, NodeSink& sink, uint32_t root, int depth) const {
+        BvhNode& node = sink.nodes[root];
+        node.bounds = pad_box(range.bounds);
         const uint32_t count = range.size();
         Split split;
         if (count > 1 && depth < kMaxSahDepth) split = find_sah_split(range);
         const float leaf_cost = static_cast<float>(count);
         if (count <= static_cast<uint32_t>(max_leaf_) && (split.axis < 0 || leaf_cost <= split.cost)) {
-            nodes[root].first = range.begin;
-            nodes[root].count = count;
+            node.first = range.begin;
+            node.count = count;
             return;
         }
         if (split.axis >= 0)
             partition(range, split);
         else
             split = median_split(range);  // no useful SAH plane, or the tree is already deep
-        const uint32_t first_child = static_cast<uint32_t>(nodes.size());
-        nodes[root].first = first_child;
-        nodes[root].count = 0;
-        nodes.resize(nodes.size() + 2);
-        build(split.left, nodes, first_child, depth + 1);
-        build(split.right, nodes, first_child + 1, depth + 1);
+        const uint32_t first_child = sink.size;
+        sink.size += 2;
+        node.first = first_child;
+        node.count = 0;
+        build(split.left, sink, first_child, depth + 1);
+        build(split.right, sink, first_child + 1, depth + 1);
     }
 
     Binning binning_for(const Range& range) const {
@@ -331,6 +356,13 @@ private:
     int threads_;
     std::vector<TopNode> top_;
     std::vector<Piece> pieces_;
+    std::vector<size_t> piece_offset_;  // piece i's room in pool_ starts here
+    std::vector<uint32_t> piece_size_;  // nodes piece i used
+    struct Free {
+        void operator()(BvhNode* p) const { std::free(p); }
+    };
+    std::unique_ptr<BvhNode, Free> pool_;
+    ChildRef root_ = 0;
 };
 
 double sah_cost_of(const Bvh& bvh, uint32_t index, const BvhBuildOptions& options) {
@@ -350,9 +382,18 @@ Bvh build_bvh(std::vector<BvhPrimitive> primitives, const BvhBuildOptions& optio
     Bvh bvh;
     if (primitives.empty()) return bvh;
     Builder builder(primitives.data(), options);
-    bvh.nodes = builder.build_all(builder.make_range(0, static_cast<uint32_t>(primitives.size())));
+    builder.build_pieces(builder.make_range(0, static_cast<uint32_t>(primitives.size())));
     bvh.prim_order.resize(primitives.size());
     for (size_t i = 0; i < primitives.size(); ++i) bvh.prim_order[i] = primitives[i].id;
+    // The primitives (28 bytes each) go before the pieces are laid out, which briefly needs room
+    // for the nodes twice: the build's peak memory is then no higher than the finished scene's.
+    std::vector<BvhPrimitive>().swap(primitives);
+    bvh.nodes = builder.assemble();
+#ifdef __GLIBC__
+    // The pieces were built on worker threads, in glibc's per-thread arenas; freed, they would stay
+    // resident (and count towards peak memory) until reused. Hand those pages back now.
+    malloc_trim(0);
+#endif
     return bvh;
 }
 

@@ -261,6 +261,10 @@ MeshShape build_mesh_shape(TriangleMesh mesh, int threads) {
         }
         BvhBuildOptions options;
         options.threads = threads;
+        // A node visit costs about two triangle tests here (the packet kernels test a leaf's
+        // triangles for every lane at once): fewer, fuller leaves. Measured on a 1M-triangle mesh:
+        // the same render speed as 1.0, a faster build, and 16 fewer bytes per triangle.
+        options.traversal_cost = 2.0f;
         shape.bvh = build_bvh(std::move(primitives), options);
     }
     shape.leaf_triangles.resize(shape.bvh.prim_order.size());
