@@ -3,6 +3,9 @@
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -238,6 +241,50 @@ private:
     }
 
     void fill_bins(uint32_t begin, uint32_t end, const Binning& binning, Bins& bins) const {
+#if defined(__SSE2__)
+        // The build's hottest loop, with each box as two 4-wide registers. Every operation is the
+        // scalar one lane by lane (IEEE single, no fused multiply-add), so the bins, and the tree,
+        // are exactly those of the portable loop below. Arguments are ordered so that a NaN in the
+        // primitive is ignored, as Bounds3f::grow does.
+        __m128 lower[3][kMaxBins], upper[3][kMaxBins];
+        uint32_t counts[3][kMaxBins] = {};
+        for (int axis = 0; axis < 3; ++axis)
+            for (int b = 0; b < bin_count_; ++b) {
+                lower[axis][b] = _mm_set1_ps(INFINITY);
+                upper[axis][b] = _mm_set1_ps(-INFINITY);
+            }
+        const __m128 origin = _mm_setr_ps(binning.lower.x, binning.lower.y, binning.lower.z, 0);
+        const __m128 scale = _mm_setr_ps(binning.scale.x, binning.scale.y, binning.scale.z, 0);
+        const __m128 last_bin = _mm_set1_ps(static_cast<float>(bin_count_ - 1));
+        const __m128 half = _mm_set1_ps(0.5f);
+        alignas(16) int32_t index[4];
+        for (uint32_t i = begin; i < end; ++i) {
+            // lower.xyz + upper.x, and upper.xyz + id: both loads stay inside the primitive.
+            const float* box = &primitives_[i].bounds.lower.x;
+            const __m128 box_lower = _mm_loadu_ps(box);
+            const __m128 box_upper = _mm_loadu_ps(box + 3);
+            const __m128 c = _mm_mul_ps(_mm_add_ps(box_lower, box_upper), half);
+            __m128 f = _mm_mul_ps(_mm_sub_ps(c, origin), scale);
+            f = _mm_min_ps(_mm_max_ps(f, _mm_setzero_ps()), last_bin);  // NaN -> 0, as bin_of
+            _mm_store_si128(reinterpret_cast<__m128i*>(index), _mm_cvttps_epi32(f));
+            for (int axis = 0; axis < 3; ++axis) {
+                const int b = index[axis];
+                lower[axis][b] = _mm_min_ps(box_lower, lower[axis][b]);
+                upper[axis][b] = _mm_max_ps(box_upper, upper[axis][b]);
+                ++counts[axis][b];
+            }
+        }
+        for (int axis = 0; axis < 3; ++axis)
+            for (int b = 0; b < bin_count_; ++b) {
+                if (counts[axis][b] == 0) continue;
+                alignas(16) float lo[4], hi[4];
+                _mm_store_ps(lo, lower[axis][b]);
+                _mm_store_ps(hi, upper[axis][b]);
+                Bin& bin = bins.axis[axis][b];
+                bin.bounds.grow(Bounds3f{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}});
+                bin.count += counts[axis][b];
+            }
+#else
         for (uint32_t i = begin; i < end; ++i) {
             const Bounds3f& b = primitives_[i].bounds;
             const Vec3f c = centroid(b);
@@ -247,6 +294,7 @@ private:
                 ++bin.count;
             }
         }
+#endif
     }
 
     // Sorts the primitives into bins along each axis and evaluates the SAH at every plane between
