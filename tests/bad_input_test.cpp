@@ -14,7 +14,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -137,6 +136,20 @@ int pixels_other_than(const Ppm& image, uint8_t r, uint8_t g, uint8_t b) {
 
 // For inputs whose numbers are legal but extreme: either a located error with a non-zero exit and
 // nothing written, or exit 0 and an image that passes `check_image`.
+// Whether `line` is "<file>:<line>:<column>: error: ..." for the given file (digits for line and
+// column). Written by hand: std::regex trips a false -Wmaybe-uninitialized in GCC 12 under ASan.
+bool is_located_error(const std::string& line, const std::string& file) {
+    if (line.compare(0, file.size(), file) != 0) return false;
+    size_t pos = file.size();
+    for (int part = 0; part < 2; ++part) {
+        if (pos >= line.size() || line[pos] != ':') return false;
+        const size_t digits_start = ++pos;
+        while (pos < line.size() && line[pos] >= '0' && line[pos] <= '9') ++pos;
+        if (pos == digits_start) return false;
+    }
+    return line.compare(pos, 9, ": error: ") == 0;
+}
+
 template <typename Check>
 void expect_located_error_or_correct_image(const std::string& name, Check check_image,
                                            const char* false_claim = nullptr) {
@@ -150,8 +163,7 @@ void expect_located_error_or_correct_image(const std::string& name, Check check_
         return;
     }
     EXPECT_EQ(r.run.exit_code, 1) << r.run.output;
-    const std::regex located("^" + std::string(kDir) + name + ":[0-9]+:[0-9]+: error: .*");
-    EXPECT_TRUE(std::regex_match(first_line(r.run.output), located)) << r.run.output;
+    EXPECT_TRUE(is_located_error(first_line(r.run.output), std::string(kDir) + name)) << r.run.output;
     if (false_claim) {
         EXPECT_EQ(r.run.output.find(false_claim), std::string::npos) << r.run.output;
     }
@@ -216,8 +228,7 @@ TEST(BadInputTest, PseudoRandomBytesEndInALocatedErrorWithBoundedOutput) {
     write_file(dir + "/random.txt", bytes);
     const RunResult run = run_guarded("random.txt out.ppm", dir);
     EXPECT_EQ(run.exit_code, 1);
-    EXPECT_TRUE(std::regex_match(first_line(run.output), std::regex("^random\\.txt:[0-9]+:[0-9]+: error: .*")))
-        << first_line(run.output);
+    EXPECT_TRUE(is_located_error(first_line(run.output), "random.txt")) << first_line(run.output);
     EXPECT_LT(run.output.size(), 20000u);
     EXPECT_EQ(files_in(dir), (std::set<std::string>{"random.txt"}));
 }
