@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Puts the seed inputs of the fuzz targets into BUILD/corpus-<target>/, next to whatever earlier
+# runs found there (so repeated runs grow the corpus; delete the folders to start afresh):
+#   corpus-fuzz_scene_parser: testcases/*.txt
+#   corpus-fuzz_obj_loader:   mesh/*.obj and a few small files for the index forms
+#   corpus-fuzz_image_decode: a small render of testcases/scene01_basic.txt written by the
+#                             raycast program of BUILD as .bmp .ppm .tga (and .png when built
+#                             with libpng), plus a text P3 PPM, a top-down 32-bit BMP and an RLE TGA
+# Nothing is taken from ../shared.
+#   bash fuzz/seed_corpus.sh [BUILD]   (default build-fuzz; BUILD/raycast must be built)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+build="${1:-build-fuzz}"
+raycast="$build/raycast"
+[ -x "$raycast" ] || raycast="$build/src/raycast"
+if [ ! -x "$raycast" ]; then
+  echo "seed_corpus.sh: no raycast program in $build (build the 'raycast' target first)" >&2
+  exit 1
+fi
+
+scene_dir="$build/corpus-fuzz_scene_parser"
+obj_dir="$build/corpus-fuzz_obj_loader"
+image_dir="$build/corpus-fuzz_image_decode"
+mkdir -p "$scene_dir" "$obj_dir" "$image_dir"
+
+# ---- scenes and meshes: the project's own files ----
+cp testcases/*.txt "$scene_dir/"
+cp mesh/*.obj "$obj_dir/"
+# Index forms the project's meshes do not use: v/t/n, v//n, v/t, negative indices, polygons,
+# comments, CRLF and a byte order mark.
+printf 'v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\n# a quad\nf 1/1/1 2/2/1 3/3/1 4/1/1\n' \
+  >"$obj_dir/seed-vtn.obj"
+printf 'v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nvn 0 0 1\r\nf -3//1 -2//1 -1//1\r\nf 1/1 2/1 3/1 # note\r\nvt 0.5 0.5\r\n' \
+  >"$obj_dir/seed-negative-crlf.obj"
+printf '\xef\xbb\xbfo thing\ng part\nusemtl red\nv 1e3 -2.5E-2 .5\nv +1 2. 3\nv 0 0 0\ns off\nf 1 2 3\nl 1 2\n' \
+  >"$obj_dir/seed-bom-other-statements.obj"
+
+# ---- images: what the program writes, at a small size ----
+formats=(bmp ppm tga)
+if "$raycast" --help 2>&1 | grep -q 'png (when built'; then
+  formats+=(png)
+fi
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+for format in "${formats[@]}"; do
+  # PNG fails (exit 1, no file) when this build has no libpng: skip it quietly then.
+  if "$raycast" -q --threads 1 --size 7x5 testcases/scene01_basic.txt "$tmp/seed-render.$format" >/dev/null 2>&1; then
+    cp "$tmp/seed-render.$format" "$image_dir/"
+  fi
+done
+"$raycast" -q --threads 1 --size 3x2 --mode normals testcases/scene03_sphere.txt "$tmp/seed-normals.tga" >/dev/null 2>&1 &&
+  cp "$tmp/seed-normals.tga" "$image_dir/"
+# Variants the program does not write but the readers accept.
+printf 'P3\n# a comment\n2 2\n255\n255 0 0  0 255 0\n0 0 255  255 255 255\n' >"$image_dir/seed-text.ppm"
+printf 'P6 1 1 65535\n\x12\x34\x56\x78\x9a\xbc' >"$image_dir/seed-16bit.ppm"
+# BMP: 2x1, 32 bits, top-down (height -1), 40-byte header, pixels at 54.
+{
+  printf 'BM\x3e\x00\x00\x00\x00\x00\x00\x00\x36\x00\x00\x00'
+  printf '\x28\x00\x00\x00\x02\x00\x00\x00\xff\xff\xff\xff\x01\x00\x20\x00\x00\x00\x00\x00'
+  printf '\x08\x00\x00\x00\x13\x0b\x00\x00\x13\x0b\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00'
+  printf '\x01\x02\x03\xff\x04\x05\x06\xff'
+} >"$image_dir/seed-topdown32.bmp"
+# TGA: type 10 (RLE), 3x1, 24 bits, top-left origin: one run of 2 pixels and one raw pixel.
+{
+  printf '\x00\x00\x0a\x00\x00\x00\x00\x00\x00\x00\x00\x00\x03\x00\x01\x00\x18\x20'
+  printf '\x81\x10\x20\x30\x00\x40\x50\x60'
+} >"$image_dir/seed-rle.tga"
+
+count() { find "$1" -type f | wc -l; }
+echo "seed_corpus.sh: $(count "$scene_dir") scene, $(count "$obj_dir") OBJ and $(count "$image_dir") image inputs in $build/corpus-*/"
