@@ -701,10 +701,15 @@ private:
     // the object first; Matrix4f (and MIT's Matrix) compose on the other side, M <- T·M.
     Mat4 compose(const Mat4& m, const Token& item) {
         if (item.is("Scale")) {
-            const Token value = lexer_.peek();
-            const Vec3f s = read_vec3("Scale");
-            if (s.x == 0 || s.y == 0 || s.z == 0)
-                fail(value, "a Scale factor of 0 squashes the object flat: the transform could not be inverted");
+            Vec3f s;
+            Token zero_factor;  // the caret goes under the first factor that is 0
+            for (int axis = 0; axis < 3; ++axis) {
+                const Token factor = lexer_.peek();
+                s[axis] = read_float("Scale");
+                if (s[axis] == 0 && zero_factor.text.empty()) zero_factor = factor;
+            }
+            if (!zero_factor.text.empty())
+                fail(zero_factor, "a Scale factor of 0 squashes the object flat: the transform could not be inverted");
             return m * Mat4::scale(s);
         }
         if (item.is("UniformScale")) {
