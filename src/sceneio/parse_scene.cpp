@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <initializer_list>
 
 #include "base/limits.h"
 #include "base/parallel.h"
@@ -380,27 +381,42 @@ private:
         const int64_t count = read_count("numLights");
         if (desc_.has_lights_block) warning(keyword, "this Lights block replaces the earlier one");
         desc_.has_lights_block = true;
-        desc_.lights.clear();
+        parse_counted_items(keyword, "numLights", count, "light", desc_.lights, {"DirectionalLight", "PointLight"},
+                            [this](const Token& token) { return parse_light(token); });
+    }
+
+    // The items of a Lights or Materials block up to its '}', checked against `count`. An item with
+    // an error still takes its place (default values), so that the count and the indices of the
+    // items after it stay right; parsing resumes at the next of `item_keywords`.
+    template <typename Item, typename ParseItem>
+    void parse_counted_items(const Token& keyword, const char* count_field, int64_t count, const std::string& noun,
+                             std::vector<Item>& items, std::initializer_list<const char*> item_keywords,
+                             ParseItem parse_item) {
+        items.clear();
         for (;;) {
             const Token token = lexer_.take();
             if (token.is("}")) {
-                if (static_cast<int64_t>(desc_.lights.size()) != count)
-                    error(token, string_printf("numLights is %lld but ", (long long)count) +
-                                     plural(static_cast<int64_t>(desc_.lights.size()), "light is", "lights are") +
+                if (static_cast<int64_t>(items.size()) != count)
+                    error(token, string_printf("%s is %lld but ", count_field, (long long)count) +
+                                     plural(static_cast<int64_t>(items.size()), (noun + " is").c_str(),
+                                            (noun + "s are").c_str()) +
                                      " given");
                 return;
             }
             if (token.is_end()) fail_unclosed(token, keyword);
-            if (static_cast<int64_t>(desc_.lights.size()) == count)
-                error(token, string_printf("numLights is %lld but more lights follow", (long long)count));
+            if (static_cast<int64_t>(items.size()) == count)
+                error(token, string_printf("%s is %lld but more %ss follow", count_field, (long long)count, noun.c_str()));
             const int inner_depth = lexer_.depth();
             try {
-                desc_.lights.push_back(parse_light(token));
+                items.push_back(parse_item(token));
             } catch (const Abandon&) {
-                if (lexer_.peek().is_end()) throw;  // reported once, not again for Lights
-                desc_.lights.push_back(LightDesc{});  // holds its place in the count
-                recover(inner_depth, [](const Token& t) {
-                    return t.is("}") || t.is("DirectionalLight") || t.is("PointLight");
+                if (lexer_.peek().is_end()) throw;  // reported once, not again for the enclosing block
+                items.push_back(Item{});
+                recover(inner_depth, [&item_keywords](const Token& t) {
+                    if (t.is("}")) return true;
+                    for (const char* k : item_keywords)
+                        if (t.is(k)) return true;
+                    return false;
                 });
             }
         }
@@ -451,33 +467,8 @@ private:
         expect_open(keyword);
         const int64_t count = read_count("numMaterials");
         if (!desc_.materials.empty()) warning(keyword, "this Materials block replaces the earlier one");
-        desc_.materials.clear();
-        for (;;) {
-            const Token token = lexer_.take();
-            if (token.is("}")) {
-                if (static_cast<int64_t>(desc_.materials.size()) != count)
-                    error(token, string_printf("numMaterials is %lld but ", (long long)count) +
-                                     plural(static_cast<int64_t>(desc_.materials.size()), "material is",
-                                            "materials are") +
-                                     " given");
-                return;
-            }
-            if (token.is_end()) fail_unclosed(token, keyword);
-            if (static_cast<int64_t>(desc_.materials.size()) == count)
-                error(token, string_printf("numMaterials is %lld but more materials follow", (long long)count));
-            // A material with an error still takes its place, so that the count and the indices
-            // of the materials after it stay right.
-            const int inner_depth = lexer_.depth();
-            try {
-                desc_.materials.push_back(parse_material(token));
-            } catch (const Abandon&) {
-                if (lexer_.peek().is_end()) throw;  // reported once, not again for Materials
-                desc_.materials.push_back(MaterialDesc{});
-                recover(inner_depth, [](const Token& t) {
-                    return t.is("}") || t.is("Material") || t.is("PhongMaterial");
-                });
-            }
-        }
+        parse_counted_items(keyword, "numMaterials", count, "material", desc_.materials, {"Material", "PhongMaterial"},
+                            [this](const Token& token) { return parse_material(token); });
     }
 
     MaterialDesc parse_material(const Token& keyword) {
