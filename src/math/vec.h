@@ -44,12 +44,16 @@ inline Vec3f normalize(Vec3f a) {
     return len > 0 ? a / len : a;
 }
 inline bool is_zero(Vec3f a) { return a.x == 0 && a.y == 0 && a.z == 0; }
+/// Whether |a|² neither underflows nor overflows float: products with `a` are then safe.
+inline bool has_ordinary_length(Vec3f a) {
+    const float squared = a.x * a.x + a.y * a.y + a.z * a.z;
+    return squared > 1e-30f && squared < 1e30f;
+}
 /// normalize() for vectors from a scene file, whose length may overflow (1e38) or underflow
 /// (1e-30) when squared: those are first divided by their largest component. Vectors of ordinary
 /// length give exactly normalize(a).
 inline Vec3f normalize_any_length(Vec3f a) {
-    const float squared = a.x * a.x + a.y * a.y + a.z * a.z;
-    if (squared > 1e-30f && squared < 1e30f) return normalize(a);
+    if (has_ordinary_length(a)) return normalize(a);
     const float largest = std::fmax(std::fabs(a.x), std::fmax(std::fabs(a.y), std::fabs(a.z)));
     if (!(largest > 0) || !std::isfinite(largest)) return normalize(a);
     return normalize(a / largest);

@@ -12,8 +12,7 @@ Camera make_camera(const CameraDesc& desc, int width, int height, const Conventi
     camera.direction = normalize_any_length(desc.direction);
     // horizontal = normalize(direction × up) with `up` as written (the course's formula, rounding
     // included), unless its length is so extreme that the cross product would overflow or vanish.
-    const float up_squared = dot(desc.up, desc.up);
-    const Vec3f up = up_squared > 1e-30f && up_squared < 1e30f ? desc.up : normalize_any_length(desc.up);
+    const Vec3f up = has_ordinary_length(desc.up) ? desc.up : normalize_any_length(desc.up);
     camera.horizontal = normalize(cross(camera.direction, up));
     camera.up = cross(camera.horizontal, camera.direction);
     camera.width = width;
