@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <cstring>
 #include <new>
+#include <string>
+#include <vector>
 
 #include "base/error.h"
 #include "base/parallel.h"
@@ -47,8 +49,8 @@ bool same_file(const std::string& a, const std::string& b) {
 }
 
 // Checks an output path before any work is done, so a long render never ends in "cannot write".
-// `input_what` names the input in the message, e.g. "the scene file".
-void check_output_path(const std::string& path, const std::string& input_path, const char* input_what = "the scene file") {
+// The output must not be one of `inputs`; `input_what` names them in the message, e.g. "the scene file".
+void check_output_path(const std::string& path, const std::vector<std::string>& inputs, const char* input_what) {
     if (path.empty()) return;
     if (!image_format_for_path(path)) {
         const size_t dot = path.find_last_of('.');
@@ -57,8 +59,9 @@ void check_output_path(const std::string& path, const std::string& input_path, c
             throw UsageError("cannot tell the image format of '" + path + "': name it .bmp, .ppm, .tga or .png");
         throw UsageError("unknown image format '" + path.substr(dot) + "' for '" + path + "': use .bmp, .ppm, .tga or .png");
     }
-    if (path == input_path || same_file(path, input_path))
-        throw UsageError("the output '" + path + "' is " + input_what + " itself: choose another name");
+    for (const std::string& input : inputs)
+        if (path == input || same_file(path, input))
+            throw UsageError("the output '" + path + "' is " + input_what + " itself: choose another name");
     if (*image_format_for_path(path) == ImageFormat::Png && !png_supported())
         throw InputError(path, "PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
     struct stat info;
@@ -111,7 +114,7 @@ float auto_focus_distance(const Scene& scene) {
 int run_render(const CliOptions& options) {
     const int threads = options.threads > 0 ? options.threads : hardware_threads();
     for (const std::string& path : {options.output_path, options.depth_path, options.normals_path})
-        check_output_path(path, options.scene_path);
+        check_output_path(path, {options.scene_path}, "the scene file");
     if (!options.quiet)
         for (const std::string& note : options.notes) std::fprintf(stderr, "raycast: note: %s\n", note.c_str());
 
@@ -199,10 +202,7 @@ int run_compare(const CliOptions& options) {
     if (a.width != b.width || a.height != b.height)
         throw InputError(options.inputs[1], string_printf("cannot compare: it is %dx%d but '%s' is %dx%d", b.width, b.height,
                                                           options.inputs[0].c_str(), a.width, a.height));
-    if (!options.diff_path.empty()) {
-        check_output_path(options.diff_path, options.inputs[0], "an image being compared");
-        check_output_path(options.diff_path, options.inputs[1], "an image being compared");
-    }
+    check_output_path(options.diff_path, options.inputs, "an image being compared");
     const ImageComparison c = compare_images(a, b);
     std::printf("compared %s and %s (%dx%d)\n", options.inputs[0].c_str(), options.inputs[1].c_str(), a.width, a.height);
     std::printf("differing pixels: %zu of %zu (%.4f%%)\n", c.differing_pixels, c.pixel_count,
@@ -218,7 +218,7 @@ int run_compare(const CliOptions& options) {
 }
 
 int run_merge(const CliOptions& options) {
-    for (const std::string& input : options.inputs) check_output_path(options.merge_output, input, "a piece");
+    check_output_path(options.merge_output, options.inputs, "a piece");
     std::vector<CropPiece> pieces;
     for (const std::string& input : options.inputs) pieces.push_back(read_crop_piece(input));
     write_image(options.merge_output, merge_crop_pieces(pieces));
