@@ -7,15 +7,11 @@
 // is still empty. Files that need bytes or sizes a text file cannot hold well (binary garbage,
 // 100,000 nested groups) are written by the tests. Runs are guarded by `timeout` so that a hang
 // fails the test instead of stalling the suite.
-#include <dirent.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,38 +27,8 @@ const char* const kDir = "tests/bad_inputs/";
 // `shell_setup` runs first in the same shell (e.g. a ulimit).
 RunResult run_guarded(const std::string& arguments, const std::string& working_dir = source_dir(),
                       const std::string& shell_setup = "") {
-    const std::string command = "cd '" + working_dir + "' && " + shell_setup + "timeout -k 5 60 '" +
-                                std::string(RAYCAST_EXECUTABLE) + "' " + arguments + " 2>&1";
-    RunResult result;
-    std::FILE* pipe = ::popen(command.c_str(), "r");
-    if (!pipe) return result;
-    char buffer[4096];
-    size_t got;
-    while ((got = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) result.output.append(buffer, got);
-    const int status = ::pclose(pipe);
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return result;
-}
-
-std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
-
-std::vector<std::string> lines_of(const std::string& text) {
-    std::vector<std::string> lines;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
-    return lines;
-}
-
-std::set<std::string> files_in(const std::string& dir) {
-    std::set<std::string> names;
-    if (DIR* d = ::opendir(dir.c_str())) {
-        while (const dirent* entry = ::readdir(d)) {
-            const std::string name = entry->d_name;
-            if (name != "." && name != "..") names.insert(name);
-        }
-        ::closedir(d);
-    }
-    return names;
+    return run_command("cd '" + working_dir + "' && " + shell_setup + "timeout -k 5 60 '" +
+                       std::string(RAYCAST_EXECUTABLE) + "' " + arguments + " 2>&1");
 }
 
 struct Rendered {
@@ -105,25 +71,6 @@ struct Case {
 
 void expect_input_errors(const std::vector<Case>& cases) {
     for (const Case& c : cases) expect_input_error(c.file, std::string(kDir) + c.file + c.message);
-}
-
-struct Ppm {
-    int width = 0, height = 0;
-    std::vector<uint8_t> rgb;
-    bool ok = false;
-};
-
-// Reads the P6 files raycast writes ("P6\nW H\n255\n" then the pixels), checking the size.
-Ppm parse_ppm(const std::string& bytes) {
-    Ppm ppm;
-    int maxval = 0, header = 0;
-    if (std::sscanf(bytes.c_str(), "P6 %d %d %d%n", &ppm.width, &ppm.height, &maxval, &header) != 3) return ppm;
-    const size_t start = static_cast<size_t>(header) + 1;
-    const size_t size = 3 * static_cast<size_t>(ppm.width) * static_cast<size_t>(ppm.height);
-    if (maxval != 255 || start + size != bytes.size()) return ppm;
-    ppm.rgb.assign(bytes.begin() + static_cast<std::ptrdiff_t>(start), bytes.end());
-    ppm.ok = true;
-    return ppm;
 }
 
 // Counts pixels that are not exactly (r, g, b).

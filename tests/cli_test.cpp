@@ -3,10 +3,8 @@
 // output's extension, --stats, --quiet, thread-count independence, the `compare` tool, and the
 // promise that a failed run never leaves or damages an output file. The expectations come from
 // --help, README.md and docs/limits.md (exit 0 success, 1 input or output error, 2 usage error).
-#include <dirent.h>
 #include <gtest/gtest.h>
 
-#include <cctype>
 #include <cstdint>
 #include <map>
 #include <set>
@@ -59,74 +57,12 @@ Materials { numMaterials 1 Material { diffuseColor 1 1 1 } }
 Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }
 )";
 
-std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
-
-std::vector<std::string> lines_of(const std::string& text) {
-    std::vector<std::string> lines;
-    std::istringstream in(text);
-    for (std::string line; std::getline(in, line);) lines.push_back(line);
-    return lines;
-}
-
-std::set<std::string> files_in(const std::string& dir) {
-    std::set<std::string> names;
-    if (DIR* d = ::opendir(dir.c_str())) {
-        while (const dirent* entry = ::readdir(d)) {
-            const std::string name = entry->d_name;
-            if (name != "." && name != "..") names.insert(name);
-        }
-        ::closedir(d);
-    }
-    return names;
-}
-
 // A temp folder holding kScene as s.txt and its mesh.
 std::string scene_dir(const std::string& name) {
     const std::string dir = temp_dir("cli/" + name);
     write_file(dir + "/s.txt", kScene);
     write_file(dir + "/quad.obj", kQuadObj);
     return dir;
-}
-
-struct Ppm {
-    int width = 0, height = 0;
-    std::vector<uint8_t> rgb;
-    bool ok = false;
-};
-
-// Reads a binary PPM (P6, maxval 255) by the format's rules, independently of raycast's reader.
-Ppm parse_ppm(const std::string& bytes) {
-    Ppm ppm;
-    size_t pos = 0;
-    auto skip_space_and_comments = [&] {
-        while (pos < bytes.size()) {
-            if (bytes[pos] == '#') {
-                while (pos < bytes.size() && bytes[pos] != '\n') ++pos;
-            } else if (std::isspace(static_cast<unsigned char>(bytes[pos]))) {
-                ++pos;
-            } else {
-                break;
-            }
-        }
-    };
-    auto number = [&] {
-        skip_space_and_comments();
-        int value = 0;
-        while (pos < bytes.size() && std::isdigit(static_cast<unsigned char>(bytes[pos])))
-            value = value * 10 + (bytes[pos++] - '0');
-        return value;
-    };
-    if (bytes.compare(0, 2, "P6") != 0) return ppm;
-    pos = 2;
-    ppm.width = number();
-    ppm.height = number();
-    const int maxval = number();
-    ++pos;  // the single whitespace byte before the pixels
-    const size_t size = 3 * static_cast<size_t>(ppm.width) * static_cast<size_t>(ppm.height);
-    if (maxval != 255 || pos + size != bytes.size()) return ppm;
-    ppm.rgb.assign(bytes.begin() + static_cast<std::ptrdiff_t>(pos), bytes.end());
-    ppm.ok = true;
-    return ppm;
 }
 
 std::string make_ppm(int width, int height, const std::vector<uint8_t>& rgb) {

@@ -1,8 +1,10 @@
 #include "test_support.h"
 
+#include <dirent.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -28,6 +30,10 @@ RunResult run_raycast(const std::string& arguments, const std::string& working_d
     std::string command;
     if (!working_dir.empty()) command = "cd '" + working_dir + "' && ";
     command += std::string("'") + RAYCAST_EXECUTABLE + "' " + arguments + " 2>&1";
+    return run_command(command);
+}
+
+RunResult run_command(const std::string& command) {
     RunResult result;
     std::FILE* pipe = ::popen(command.c_str(), "r");
     if (!pipe) return result;
@@ -37,6 +43,61 @@ RunResult run_raycast(const std::string& arguments, const std::string& working_d
     const int status = ::pclose(pipe);
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return result;
+}
+
+std::set<std::string> files_in(const std::string& dir) {
+    std::set<std::string> names;
+    if (DIR* d = ::opendir(dir.c_str())) {
+        while (const dirent* entry = ::readdir(d)) {
+            const std::string name = entry->d_name;
+            if (name != "." && name != "..") names.insert(name);
+        }
+        ::closedir(d);
+    }
+    return names;
+}
+
+Ppm parse_ppm(const std::string& bytes) {
+    Ppm ppm;
+    size_t pos = 0;
+    auto skip_space_and_comments = [&] {
+        while (pos < bytes.size()) {
+            if (bytes[pos] == '#') {
+                while (pos < bytes.size() && bytes[pos] != '\n') ++pos;
+            } else if (std::isspace(static_cast<unsigned char>(bytes[pos]))) {
+                ++pos;
+            } else {
+                break;
+            }
+        }
+    };
+    auto number = [&] {
+        skip_space_and_comments();
+        int value = 0;
+        while (pos < bytes.size() && std::isdigit(static_cast<unsigned char>(bytes[pos])))
+            value = value * 10 + (bytes[pos++] - '0');
+        return value;
+    };
+    if (bytes.compare(0, 2, "P6") != 0) return ppm;
+    pos = 2;
+    ppm.width = number();
+    ppm.height = number();
+    const int maxval = number();
+    ++pos;  // the single whitespace byte before the pixels
+    const size_t size = 3 * static_cast<size_t>(ppm.width) * static_cast<size_t>(ppm.height);
+    if (maxval != 255 || pos + size != bytes.size()) return ppm;
+    ppm.rgb.assign(bytes.begin() + static_cast<std::ptrdiff_t>(pos), bytes.end());
+    ppm.ok = true;
+    return ppm;
+}
+
+std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
+
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
 }
 
 bool file_exists(const std::string& path) {

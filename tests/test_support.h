@@ -2,7 +2,10 @@
 // reading files.
 #pragma once
 
+#include <cstdint>
+#include <set>
 #include <string>
+#include <vector>
 
 namespace raycast::test {
 
@@ -18,10 +21,28 @@ struct RunResult {
     std::string output;  ///< stdout and stderr together
 };
 
+/// Runs a shell command line and collects its stdout (add 2>&1 for stderr) and exit code.
+RunResult run_command(const std::string& command);
+
 /// Runs the raycast program with `arguments` (already shell-quoted as needed) in `working_dir`.
 RunResult run_raycast(const std::string& arguments, const std::string& working_dir = "");
 
 bool file_exists(const std::string& path);
+/// The names in a folder, without "." and ".."; empty if it cannot be read.
+std::set<std::string> files_in(const std::string& dir);
+/// A binary PPM (P6, maxval 255) read by the format's rules, independently of raycast's reader;
+/// ok is false unless the header is right and the pixel bytes fill the file exactly.
+struct Ppm {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;
+    bool ok = false;
+};
+Ppm parse_ppm(const std::string& bytes);
+
+/// The text up to the first newline.
+std::string first_line(const std::string& text);
+/// The lines of a text, without their newlines.
+std::vector<std::string> lines_of(const std::string& text);
 std::string read_file(const std::string& path);
 void write_file(const std::string& path, const std::string& text);
 

@@ -22,9 +22,12 @@
 #include "geometry/triangle.h"
 #include "scene/build_scene.h"
 #include "scene/scene.h"
+#include "scene_builders.h"
 
 namespace raycast {
 namespace {
+
+using namespace test;  // the scene builders (tests/scene_builders.h)
 
 // ---------------------------------------------------------------------------------------------
 // Tree invariants
@@ -397,25 +400,9 @@ SceneDesc scene_desc() {
     return desc;
 }
 
-ObjectDesc mesh_object(int mesh) {
-    ObjectDesc object;
-    object.kind = ObjectDesc::Kind::TriangleMesh;
-    object.material = 0;
-    object.mesh = mesh;
-    return object;
-}
-
 int add_mesh(SceneDesc& desc, TriangleMesh mesh) {
     desc.meshes.push_back({"mesh" + std::to_string(desc.meshes.size()) + ".obj", std::move(mesh)});
     return static_cast<int>(desc.meshes.size()) - 1;
-}
-
-ObjectDesc transformed(const Mat4& m, ObjectDesc child) {
-    ObjectDesc t;
-    t.kind = ObjectDesc::Kind::Transform;
-    t.world_from_object = m;
-    t.children.push_back(std::move(child));
-    return t;
 }
 
 Scene scene_with(SceneDesc desc, int threads = 1) {
@@ -719,16 +706,16 @@ TEST(SceneIntersect, MatchesBruteForceOverMixedTransformedObjects) {
     objects.push_back(triangle);
     const Mat4 ball_transform =
         Mat4::translate({2, -1, 0.5f}) * Mat4::rotate({1, 2, 3}, 40) * Mat4::scale({2, 0.7f, 1.3f});
-    objects.push_back(transformed(ball_transform, mesh_object(ball_index)));
+    objects.push_back(transform(ball_transform, mesh_object(ball_index)));
     ObjectDesc ellipsoid = sphere;
     ellipsoid.sphere = {{0, 0, 0}, 1};
-    objects.push_back(transformed(Mat4::translate({-2, 2, 1}) * Mat4::scale({0.5f, 2, 1}), ellipsoid));
+    objects.push_back(transform(Mat4::translate({-2, 2, 1}) * Mat4::scale({0.5f, 2, 1}), ellipsoid));
     ObjectDesc plane;
     plane.kind = ObjectDesc::Kind::Plane;
     plane.material = 0;
     plane.plane = {{0, 0, 2}, -10};  // z = −5, normal not unit
-    objects.push_back(transformed(Mat4::rotate_x(10), plane));
-    objects.push_back(transformed(Mat4::translate({-4, -4, 2}) * Mat4::rotate_z(30) * Mat4::scale({0.5f, 0.5f, 1}),
+    objects.push_back(transform(Mat4::rotate_x(10), plane));
+    objects.push_back(transform(Mat4::translate({-4, -4, 2}) * Mat4::rotate_z(30) * Mat4::scale({0.5f, 0.5f, 1}),
                                   mesh_object(grid_index)));
     ObjectDesc copy = triangle;
     copy.vertices[0] = corner(soup_mesh, 5, 0);

@@ -18,85 +18,15 @@
 #include "render/shade.h"
 #include "scene/build_scene.h"
 #include "sceneio/load_scene.h"
+#include "scene_builders.h"
 
 namespace raycast {
 namespace {
 
+using namespace test;  // the scene builders (tests/scene_builders.h)
+
 // ---------------------------------------------------------------------------------------------
 // Scene building blocks.
-
-ObjectDesc sphere(Vec3f center, float radius, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Sphere;
-    o.sphere = {center, radius};
-    o.material = material;
-    return o;
-}
-
-ObjectDesc plane(Vec3f normal, float offset, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Plane;
-    o.plane = {normal, offset};
-    o.material = material;
-    return o;
-}
-
-ObjectDesc triangle(Vec3f a, Vec3f b, Vec3f c, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Triangle;
-    o.vertices[0] = a;
-    o.vertices[1] = b;
-    o.vertices[2] = c;
-    o.material = material;
-    return o;
-}
-
-ObjectDesc mesh_object(int mesh, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::TriangleMesh;
-    o.mesh = mesh;
-    o.material = material;
-    return o;
-}
-
-ObjectDesc transform(const Mat4& m, ObjectDesc child) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Transform;
-    o.world_from_object = m;
-    o.children.push_back(std::move(child));
-    return o;
-}
-
-ObjectDesc group(std::vector<ObjectDesc> children) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Group;
-    o.children = std::move(children);
-    return o;
-}
-
-MaterialDesc material(Vec3f kd, Vec3f ks = {0, 0, 0}, float shininess = 0) {
-    MaterialDesc m;
-    m.diffuse = kd;
-    m.specular = ks;
-    m.shininess = shininess;
-    return m;
-}
-
-LightDesc directional(Vec3f direction, Vec3f color) {
-    LightDesc l;
-    l.kind = LightDesc::Kind::Directional;
-    l.direction = direction;
-    l.color = color;
-    return l;
-}
-
-LightDesc point_light(Vec3f position, Vec3f color) {
-    LightDesc l;
-    l.kind = LightDesc::Kind::Point;
-    l.position = position;
-    l.color = color;
-    return l;
-}
 
 CameraDesc camera(Vec3f center, Vec3f direction, float angle, int w, int h) {
     CameraDesc c;
@@ -107,15 +37,6 @@ CameraDesc camera(Vec3f center, Vec3f direction, float angle, int w, int h) {
     c.width = w;
     c.height = h;
     return c;
-}
-
-TriangleMesh cube_mesh() {
-    TriangleMesh mesh;
-    mesh.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-    mesh.indices = {4, 5, 6, 4, 6, 7, 0, 2, 1, 0, 3, 2, 1, 2, 6, 1, 6, 5,
-                    0, 4, 7, 0, 7, 3, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4};
-    return mesh;
 }
 
 // A unit sphere of triangles (no degenerate pole triangles) with smooth vertex normals, so that
@@ -161,12 +82,6 @@ TriangleMesh terrain_mesh(int n) {
             mesh.indices.insert(mesh.indices.end(),
                                 {at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i + 1, j)});
     return mesh;
-}
-
-Scene build(SceneDesc desc, Conventions conventions = Conventions::course()) {
-    SceneBuildOptions options;
-    options.conventions = conventions;
-    return build_scene(std::move(desc), options);
 }
 
 // Meshes only: a smooth sphere mesh, the cube twice and a wavy terrain, 37×29 (not a multiple of

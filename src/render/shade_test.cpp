@@ -13,9 +13,12 @@
 #include <vector>
 
 #include "scene/build_scene.h"
+#include "scene_builders.h"
 
 namespace raycast {
 namespace {
+
+using namespace test;  // the scene builders (tests/scene_builders.h)
 
 void expect_vec_near(Vec3f actual, Vec3f expected, float tolerance = 1e-6f) {
     EXPECT_NEAR(actual.x, expected.x, tolerance) << "x";
@@ -117,77 +120,6 @@ SceneDesc desc_with(ObjectDesc root, std::vector<MaterialDesc> materials, std::v
     desc.has_lights_block = !desc.lights.empty();
     desc.root = std::move(root);
     return desc;
-}
-
-ObjectDesc sphere(Vec3f center, float radius, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Sphere;
-    o.sphere = {center, radius};
-    o.material = material;
-    return o;
-}
-
-ObjectDesc plane(Vec3f normal, float offset, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Plane;
-    o.plane = {normal, offset};
-    o.material = material;
-    return o;
-}
-
-ObjectDesc triangle(Vec3f a, Vec3f b, Vec3f c, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Triangle;
-    o.vertices[0] = a;
-    o.vertices[1] = b;
-    o.vertices[2] = c;
-    o.material = material;
-    return o;
-}
-
-ObjectDesc group(std::vector<ObjectDesc> children) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Group;
-    o.children = std::move(children);
-    return o;
-}
-
-ObjectDesc transform(const Mat4& m, ObjectDesc child) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Transform;
-    o.world_from_object = m;
-    o.children.push_back(std::move(child));
-    return o;
-}
-
-MaterialDesc material(Vec3f kd, Vec3f ks = {0, 0, 0}, float shininess = 0) {
-    MaterialDesc m;
-    m.diffuse = kd;
-    m.specular = ks;
-    m.shininess = shininess;
-    return m;
-}
-
-LightDesc directional(Vec3f direction, Vec3f color) {
-    LightDesc l;
-    l.kind = LightDesc::Kind::Directional;
-    l.direction = direction;
-    l.color = color;
-    return l;
-}
-
-LightDesc point_light(Vec3f position, Vec3f color) {
-    LightDesc l;
-    l.kind = LightDesc::Kind::Point;
-    l.position = position;
-    l.color = color;
-    return l;
-}
-
-Scene build(SceneDesc desc, Conventions conventions = Conventions::course()) {
-    SceneBuildOptions options;
-    options.conventions = conventions;
-    return build_scene(std::move(desc), options);
 }
 
 // The colour seen along a ray (which must hit something).
@@ -373,15 +305,6 @@ TEST(OffsetRayOriginTest, MovesATinyStepAlongTheNormalTowardsTheGivenSide) {
 Vec3f tangent_of(Vec3f n) {
     const Vec3f other = std::fabs(n.x) < 0.9f ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0};
     return normalize(cross(n, other));
-}
-
-TriangleMesh cube_mesh() {
-    TriangleMesh mesh;
-    mesh.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-    mesh.indices = {4, 5, 6, 4, 6, 7, 0, 2, 1, 0, 3, 2, 1, 2, 6, 1, 6, 5,
-                    0, 4, 7, 0, 7, 3, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4};
-    return mesh;
 }
 
 TEST(OffsetRayOriginTest, ShadowRaysDoNotReHitTheirOwnSurfaceAtAnyScale) {

@@ -14,64 +14,17 @@
 
 #include "base/error.h"
 #include "sceneio/load_scene.h"
+#include "scene_builders.h"
 
 namespace raycast {
 namespace {
+
+using namespace test;  // the scene builders (tests/scene_builders.h)
 
 void expect_vec_near(Vec3f actual, Vec3f expected, float tolerance = 1e-5f) {
     EXPECT_NEAR(actual.x, expected.x, tolerance) << "x";
     EXPECT_NEAR(actual.y, expected.y, tolerance) << "y";
     EXPECT_NEAR(actual.z, expected.z, tolerance) << "z";
-}
-
-ObjectDesc sphere(Vec3f center, float radius, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Sphere;
-    o.sphere = {center, radius};
-    o.material = material;
-    return o;
-}
-
-ObjectDesc plane(Vec3f normal, float offset, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Plane;
-    o.plane = {normal, offset};
-    o.material = material;
-    return o;
-}
-
-ObjectDesc mesh_object(int mesh, int material = 0) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::TriangleMesh;
-    o.mesh = mesh;
-    o.material = material;
-    return o;
-}
-
-ObjectDesc transform(const Mat4& m, ObjectDesc child, SourceLocation location = {}) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Transform;
-    o.world_from_object = m;
-    o.location = std::move(location);
-    o.children.push_back(std::move(child));
-    return o;
-}
-
-ObjectDesc group(std::vector<ObjectDesc> children) {
-    ObjectDesc o;
-    o.kind = ObjectDesc::Kind::Group;
-    o.children = std::move(children);
-    return o;
-}
-
-// The cube [−1, 1]³ with counter-clockwise outward faces, like the course's cube.obj.
-TriangleMesh cube_mesh() {
-    TriangleMesh mesh;
-    mesh.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-    mesh.indices = {4, 5, 6, 4, 6, 7, 0, 2, 1, 0, 3, 2, 1, 2, 6, 1, 6, 5,
-                    0, 4, 7, 0, 7, 3, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4};
-    return mesh;
 }
 
 SceneDesc scene_with(ObjectDesc root, int materials = 1) {
