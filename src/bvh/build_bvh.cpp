@@ -133,10 +133,10 @@ public:
     }
 
     // 3. Lays everything out in one array and frees the pool.
-    std::vector<BvhNode> assemble() {
+    LargeVector<BvhNode> assemble() {
         size_t total = 2 * top_.size() + 1;
         for (uint32_t size : piece_size_) total += size - 1;
-        std::vector<BvhNode> nodes;
+        LargeVector<BvhNode> nodes;
         nodes.reserve(total);
         nodes.resize(1);
         emit(root_, nodes, 0);
@@ -177,7 +177,7 @@ private:
     }
 
     // Writes the subtree `ref` with its root at nodes[slot]; children are appended.
-    void emit(ChildRef ref, std::vector<BvhNode>& nodes, size_t slot) {
+    void emit(ChildRef ref, LargeVector<BvhNode>& nodes, size_t slot) {
         if (ref < 0) {
             const size_t piece = static_cast<size_t>(~ref);
             const BvhNode* piece_nodes = pool_.get() + piece_offset_[piece];

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "base/check.h"
+#include "base/large_allocator.h"
 #include "math/bounds.h"
 #include "math/ray.h"
 
@@ -25,7 +26,7 @@ struct BvhNode {
 static_assert(sizeof(BvhNode) == 32, "a node should fill half a cache line");
 
 struct Bvh {
-    std::vector<BvhNode> nodes;        ///< nodes[0] is the root; empty when there is nothing
+    LargeVector<BvhNode> nodes;        ///< nodes[0] is the root; empty when there is nothing
     std::vector<uint32_t> prim_order;  ///< the primitives' ids in leaf order
 
     bool empty() const { return nodes.empty(); }

@@ -84,7 +84,7 @@ TEST(DifferenceHeatMap, BlackWhereEqualWhiteAtTheLargest) {
     const ImageRgb8 map = difference_heat_map(a, b);
     ASSERT_EQ(map.width, 4);
     ASSERT_EQ(map.height, 1);
-    EXPECT_EQ(map.rgb, (std::vector<uint8_t>{0, 0, 0, 255, 0, 0, 255, 255, 0, 255, 255, 255}));
+    EXPECT_EQ(map.rgb, (LargeVector<uint8_t>{0, 0, 0, 255, 0, 0, 255, 255, 0, 255, 255, 255}));
 }
 
 TEST(DifferenceHeatMap, OneLevelStaysVisibleAndBrightnessGrows) {
@@ -101,7 +101,7 @@ TEST(DifferenceHeatMap, OneLevelStaysVisibleAndBrightnessGrows) {
 
 TEST(DifferenceHeatMap, IdenticalImagesGiveBlack) {
     const ImageRgb8 a = make_image(2, 1, {1, 2, 3, 4, 5, 6});
-    EXPECT_EQ(difference_heat_map(a, a).rgb, std::vector<uint8_t>(6, 0));
+    EXPECT_EQ(difference_heat_map(a, a).rgb, LargeVector<uint8_t>(6, 0));
 }
 
 }  // namespace

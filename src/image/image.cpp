@@ -2,12 +2,6 @@
 
 namespace raycast {
 
-uint8_t to_byte(float c) {
-    if (!(c > 0)) return 0;  // also NaN
-    if (c >= 1) return 255;
-    return static_cast<uint8_t>(c * 255.0f);
-}
-
 ImageRgb8 quantize(const Image& image) {
     ImageRgb8 out(image.width, image.height);
     for (size_t i = 0; i < image.pixels.size(); ++i) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "base/large_allocator.h"
 #include "base/limits.h"  // kMaxImageSide, kMaxImagePixels: the largest image read or written
 #include "math/vec.h"
 
@@ -13,7 +14,7 @@ namespace raycast {
 /// Linear RGB floats, one Vec3f per pixel, pixel (x, y) at index y·width + x.
 struct Image {
     int width = 0, height = 0;
-    std::vector<Vec3f> pixels;
+    LargeVector<Vec3f> pixels;
 
     Image() = default;
     Image(int w, int h) : width(w), height(h), pixels(static_cast<size_t>(w) * static_cast<size_t>(h)) {}
@@ -26,7 +27,7 @@ struct Image {
 /// 8 bits per channel, RGB interleaved, pixel (x, y) at byte 3·(y·width + x).
 struct ImageRgb8 {
     int width = 0, height = 0;
-    std::vector<uint8_t> rgb;
+    LargeVector<uint8_t> rgb;
 
     ImageRgb8() = default;
     ImageRgb8(int w, int h) : width(w), height(h), rgb(3 * static_cast<size_t>(w) * static_cast<size_t>(h)) {}
@@ -38,7 +39,11 @@ struct ImageRgb8 {
 
 /// The course's conversion of a channel to 8 bits: clamp to [0, 1], then truncate c·255
 /// (not round). NaN becomes 0, so no image ever holds a value from a NaN.
-uint8_t to_byte(float c);
+inline uint8_t to_byte(float c) {
+    if (!(c > 0)) return 0;  // also NaN
+    if (c >= 1) return 255;
+    return static_cast<uint8_t>(c * 255.0f);
+}
 
 /// Converts every pixel with to_byte.
 ImageRgb8 quantize(const Image& image);

@@ -28,7 +28,7 @@ struct LeafTriangle {
 struct MeshShape {
     TriangleMesh mesh;
     Bvh bvh;  ///< bvh.prim_order[i] is the mesh triangle stored at leaf_triangles[i]
-    std::vector<LeafTriangle> leaf_triangles;
+    LargeVector<LeafTriangle> leaf_triangles;
     Bounds3f bounds;
 };
 
