@@ -171,9 +171,7 @@ int run_render(const CliOptions& options) {
         RenderOptions pass = render;
         pass.mode = output.mode;
         RenderStats stats;
-        // The float image (12 bytes a pixel) goes before the file is encoded: for a large mesh at
-        // 1024x1024 that is a tenth of the peak memory.
-        const ImageRgb8 bytes = quantize(render_image(scene, pass, &stats));
+        const ImageRgb8 bytes = render_image_rgb8(scene, pass, &stats);
         if (render.has_crop && image_format_for_path(output.path) == ImageFormat::Ppm) {
             const CropWindow& c = render.crop;
             write_crop_piece(output.path, bytes,

@@ -95,10 +95,16 @@ public:
         packet_width_ = tracer_.lanes();
     }
 
-    Image render(RenderStats* stats) {
-        Timer timer;
-        Image image(frame_.width, frame_.height);
-        if (options_.mode == RenderMode::Depth) depth_.assign(image.pixels.size(), INFINITY);
+    int width() const { return frame_.width; }
+    int height() const { return frame_.height; }
+
+    // Renders into exactly one of the two images, which has the frame's size. `timer` started
+    // before the image was allocated: the render time includes it.
+    void render(Image* floats, ImageRgb8* bytes, const Timer& timer, RenderStats* stats) {
+        floats_ = floats;
+        bytes_ = bytes;
+        const size_t pixel_count = static_cast<size_t>(frame_.width) * static_cast<size_t>(frame_.height);
+        if (options_.mode == RenderMode::Depth) depth_.assign(pixel_count, INFINITY);
         const int tile = std::max(1, options_.tile_size);
         const int tiles_x = (frame_.width + tile - 1) / tile, tiles_y = (frame_.height + tile - 1) / tile;
         const size_t tile_count = static_cast<size_t>(tiles_x) * static_cast<size_t>(tiles_y);
@@ -108,12 +114,12 @@ public:
         parallel_for(tile_count, threads, [&](size_t index, int worker) {
             const int tx = static_cast<int>(index % static_cast<size_t>(tiles_x));
             const int ty = static_cast<int>(index / static_cast<size_t>(tiles_x));
-            render_tile(image, tx * tile, ty * tile, std::min(frame_.width, (tx + 1) * tile),
+            render_tile(tx * tile, ty * tile, std::min(frame_.width, (tx + 1) * tile),
                         std::min(frame_.height, (ty + 1) * tile), totals[static_cast<size_t>(worker)]);
             const size_t done = ++tiles_done;
             if (options_.progress) options_.progress(static_cast<double>(done) / static_cast<double>(tile_count));
         });
-        if (options_.mode == RenderMode::Depth) finish_depth(image);
+        if (options_.mode == RenderMode::Depth) finish_depth(*floats_);
         if (stats) {
             *stats = RenderStats{};
             for (const WorkerTotals& t : totals) {
@@ -126,16 +132,21 @@ public:
             stats->traversal = tracer_.isa() == PacketIsa::None ? std::string("single-ray")
                                                                 : std::string("packet-") + packet_isa_name(tracer_.isa());
         }
-        return image;
     }
 
 private:
     struct WorkerTotals {
         uint64_t rays = 0, hits = 0, nodes_visited = 0;
         char padding[40];  // keep each thread's counters on its own cache line
+        // The tile's finished pixels, row by row, copied to the image at the end: neighbouring
+        // tiles, rendered by different threads at once, share cache lines of the image (a row of
+        // 16 pixels is 48 bytes), which pixel-by-pixel writes would bounce between cores.
+        std::vector<Vec3f> tile_pixels;
     };
 
-    void render_tile(Image& image, int x_begin, int y_begin, int x_end, int y_end, WorkerTotals& totals) {
+    void render_tile(int x_begin, int y_begin, int x_end, int y_end, WorkerTotals& totals) {
+        const int tile_width = x_end - x_begin;
+        totals.tile_pixels.resize(static_cast<size_t>(tile_width) * static_cast<size_t>(y_end - y_begin));
         // Blocks of pixels small enough to form one packet of coherent rays.
         const int block_w = packet_width_ >= 16 ? 4 : (packet_width_ >= 4 ? 2 : 1);
         const int block_h = packet_width_ / block_w > 0 ? packet_width_ / block_w : 1;
@@ -143,30 +154,53 @@ private:
         Hit hits[kMaxPacketLanes];
         uint64_t nodes[kMaxPacketLanes];
         int pixel_x[kMaxPacketLanes], pixel_y[kMaxPacketLanes];
+        Vec3f sums[kMaxPacketLanes];
         for (int by = y_begin; by < y_end; by += block_h)
-            for (int bx = x_begin; bx < x_end; bx += block_w)
+            for (int bx = x_begin; bx < x_end; bx += block_w) {
+                int count = 0;
+                for (int y = by; y < std::min(by + block_h, y_end); ++y)
+                    for (int x = bx; x < std::min(bx + block_w, x_end); ++x) {
+                        pixel_x[count] = x;
+                        pixel_y[count] = y;
+                        ++count;
+                    }
                 for (int s = 0; s < spp_; ++s) {
-                    int count = 0;
-                    for (int y = by; y < std::min(by + block_h, y_end); ++y)
-                        for (int x = bx; x < std::min(bx + block_w, x_end); ++x) {
-                            pixel_x[count] = x;
-                            pixel_y[count] = y;
-                            rays[count] = primary_ray(x, y, s);
-                            hits[count] = Hit{};
-                            nodes[count] = 0;
-                            ++count;
-                        }
+                    for (int k = 0; k < count; ++k) {
+                        rays[k] = primary_ray(pixel_x[k], pixel_y[k], s);
+                        hits[k] = Hit{};
+                        nodes[k] = 0;
+                    }
                     trace(rays, hits, nodes, count);
                     for (int k = 0; k < count; ++k) {
                         totals.rays += 1;
                         totals.hits += hits[k].is_hit() ? 1 : 0;
                         totals.nodes_visited += nodes[k];
-                        Vec3f& pixel = image.at(pixel_x[k], pixel_y[k]);
                         const Vec3f color = pixel_value(rays[k], hits[k], nodes[k], pixel_x[k], pixel_y[k]);
-                        pixel = s == 0 ? color : pixel + color;
-                        if (s == spp_ - 1 && spp_ > 1) pixel = pixel / static_cast<float>(spp_);
+                        sums[k] = s == 0 ? color : sums[k] + color;
                     }
                 }
+                for (int k = 0; k < count; ++k)
+                    totals.tile_pixels[static_cast<size_t>(pixel_y[k] - y_begin) * static_cast<size_t>(tile_width) +
+                                       static_cast<size_t>(pixel_x[k] - x_begin)] =
+                        spp_ > 1 ? sums[k] / static_cast<float>(spp_) : sums[k];
+            }
+        store_tile(x_begin, y_begin, x_end, y_end, totals.tile_pixels.data());
+    }
+
+    void store_tile(int x_begin, int y_begin, int x_end, int y_end, const Vec3f* colors) {
+        for (int y = y_begin; y < y_end; ++y) {
+            if (floats_) {
+                std::copy(colors, colors + (x_end - x_begin), &floats_->at(x_begin, y));
+                colors += x_end - x_begin;
+                continue;
+            }
+            uint8_t* byte = bytes_->at(x_begin, y);
+            for (int x = x_begin; x < x_end; ++x, ++colors, byte += 3) {
+                byte[0] = to_byte(colors->x);
+                byte[1] = to_byte(colors->y);
+                byte[2] = to_byte(colors->z);
+            }
+        }
     }
 
     Ray primary_ray(int x, int y, int s) const {
@@ -242,12 +276,28 @@ private:
     int spp_ = 1;
     int packet_width_ = 1;
     std::vector<float> depth_;
+    Image* floats_ = nullptr;
+    ImageRgb8* bytes_ = nullptr;
 };
 
 }  // namespace
 
 Image render_image(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
-    return Renderer(scene, options).render(stats);
+    const Timer timer;
+    Renderer renderer(scene, options);
+    Image image(renderer.width(), renderer.height());
+    renderer.render(&image, nullptr, timer, stats);
+    return image;
+}
+
+ImageRgb8 render_image_rgb8(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
+    // Depth's grey levels need every pixel's distance first: that goes through the float image.
+    if (options.mode == RenderMode::Depth) return quantize(render_image(scene, options, stats));
+    const Timer timer;
+    Renderer renderer(scene, options);
+    ImageRgb8 image(renderer.width(), renderer.height());
+    renderer.render(nullptr, &image, timer, stats);
+    return image;
 }
 
 }  // namespace raycast

@@ -55,4 +55,8 @@ struct RenderStats {
 /// Renders the scene (or the crop window of it). Depth and Material modes ignore lights.
 Image render_image(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
 
+/// The same image as quantize(render_image(...)), byte for byte, written straight to 8 bits: a
+/// quarter of the memory, and no second pass over the pixels.
+ImageRgb8 render_image_rgb8(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+
 }  // namespace raycast

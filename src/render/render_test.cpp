@@ -349,6 +349,37 @@ TEST(RenderTest, CropWindowGivesTheSamePixelsAsTheFullRender) {
         }
 }
 
+TEST(RenderTest, EightBitRenderIsTheQuantizedFloatRenderByteForByte) {
+    // render_image_rgb8 converts each tile as it finishes; the CLI writes what it returns.
+    const Scene scenes[2] = {transformed_scene(), mesh_scene()};
+    for (const Scene& scene : scenes)
+        for (RenderMode mode :
+             {RenderMode::Shaded, RenderMode::Normals, RenderMode::Depth, RenderMode::Material, RenderMode::Cost})
+            for (int spp : {1, 4})
+                for (PacketIsa isa : {PacketIsa::None, best_packet_isa()})
+                    for (bool crop : {false, true}) {
+                        RenderOptions options = options_with(isa);
+                        options.mode = mode;
+                        options.samples_per_pixel = spp;
+                        options.tile_size = 7;  // tiles that end mid-block and mid-image
+                        options.threads = 3;
+                        options.has_crop = crop;
+                        options.crop = {3, 2, scene.camera.width - 4, scene.camera.height - 1};
+                        RenderStats float_stats, byte_stats;
+                        const ImageRgb8 expected = quantize(render_image(scene, options, &float_stats));
+                        const ImageRgb8 bytes = render_image_rgb8(scene, options, &byte_stats);
+                        const std::string where = "mode " + std::to_string(static_cast<int>(mode)) + " spp " +
+                                                  std::to_string(spp) + " isa " + packet_isa_name(isa) +
+                                                  (crop ? " crop" : "");
+                        ASSERT_EQ(bytes.width, expected.width) << where;
+                        ASSERT_EQ(bytes.height, expected.height) << where;
+                        EXPECT_TRUE(bytes.rgb == expected.rgb) << where;
+                        EXPECT_EQ(byte_stats.rays, float_stats.rays) << where;
+                        EXPECT_EQ(byte_stats.hits, float_stats.hits) << where;
+                        EXPECT_GT(byte_stats.hits, 0u) << where;
+                    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Supersampling.
 
