@@ -62,19 +62,23 @@ inline BoxRay make_box_ray(const Ray& ray, float t_min) {
 }
 
 /// Slab test. The interval is widened by a few float roundings on each side (pbrt-v4's
-/// 1 + 2γ₃), so a box is never missed by a ray that really meets it. Returns the entry t.
+/// 1 + 2γ₃), so a box is never missed by a ray that really meets it. Widening the largest entry
+/// and the smallest exit is the same as widening every slab's (x − |x|·w only grows with x), and
+/// takes two operations instead of six. Returns the entry t.
 inline bool intersect_box(const Bounds3f& box, const BoxRay& ray, float t_cull, float& t_entry) {
     constexpr float kWiden = 4 * 5.96046448e-08f;  // a little more than 2γ₃ for float
-    float t0 = ray.t_min, t1 = t_cull;
+    float entry = -INFINITY, exit = INFINITY;
     for (int axis = 0; axis < 3; ++axis) {
         float near = (box.lower[axis] - ray.origin[axis]) * ray.inv_direction[axis];
         float far = (box.upper[axis] - ray.origin[axis]) * ray.inv_direction[axis];
         if (near > far) std::swap(near, far);
-        near -= std::fabs(near) * kWiden;
-        far += std::fabs(far) * kWiden;
-        t0 = near > t0 ? near : t0;
-        t1 = far < t1 ? far : t1;
+        entry = near > entry ? near : entry;
+        exit = far < exit ? far : exit;
     }
+    entry -= std::fabs(entry) * kWiden;
+    exit += std::fabs(exit) * kWiden;
+    const float t0 = entry > ray.t_min ? entry : ray.t_min;
+    const float t1 = exit < t_cull ? exit : t_cull;
     t_entry = t0;
     return t0 <= t1;
 }

@@ -5,24 +5,39 @@
 
 namespace raycast {
 
+namespace {
+
+// max(0, x), with NaN giving 0 as std::fmax does; written as a comparison because GCC calls
+// fmaxf as a library function.
+float positive_part(float x) { return x > 0 ? x : 0.0f; }
+
+// std::pow(base, exponent) for base >= 0 (or NaN), skipping the call where the answer is known:
+// half the lit points face away from the highlight, and powf is the dearest step of shading.
+float specular_power(float base, float exponent) {
+    if (base == 0 && exponent > 0) return 0;
+    return std::pow(base, exponent);
+}
+
+}  // namespace
+
 Vec3f reflect_light(const Material& material, SpecularModel model, Vec3f normal, Vec3f to_light, Vec3f to_viewer) {
     const float n_dot_l = dot(normal, to_light);
-    const Vec3f diffuse = material.diffuse * std::fmax(0.0f, n_dot_l);
+    const Vec3f diffuse = material.diffuse * positive_part(n_dot_l);
     float specular = 0;
     switch (model) {
         case SpecularModel::Phong: {
             // The handout's formula, term for term: R = 2(L·N)N − L and ks·max(0, V·R)^s, with no
             // gate on L·N (the course's reference images have none).
             const Vec3f reflected = 2 * n_dot_l * normal - to_light;
-            specular = std::pow(std::fmax(0.0f, dot(to_viewer, reflected)), material.shininess);
+            specular = specular_power(positive_part(dot(to_viewer, reflected)), material.shininess);
             break;
         }
         case SpecularModel::BlinnClampedByNdotL:
         case SpecularModel::BlinnTimesNdotL: {
             const Vec3f half_vector = normalize(to_light + to_viewer);
-            specular = std::pow(std::fmax(0.0f, dot(normal, half_vector)), material.shininess);
+            specular = specular_power(positive_part(dot(normal, half_vector)), material.shininess);
             if (model == SpecularModel::BlinnClampedByNdotL && !(n_dot_l > 0)) specular = 0;
-            if (model == SpecularModel::BlinnTimesNdotL) specular *= std::fmax(0.0f, n_dot_l);
+            if (model == SpecularModel::BlinnTimesNdotL) specular *= positive_part(n_dot_l);
             break;
         }
     }

@@ -36,14 +36,6 @@ Camera make_camera(const CameraDesc& desc, int width, int height, const Conventi
     return camera;
 }
 
-Ray camera_ray(const Camera& camera, float px, float py) {
-    const float a = (px - camera.cx) / camera.fx;
-    const float b = (py - camera.cy) / camera.fy;
-    if (camera.projection == Camera::Projection::Orthographic)
-        return {camera.center + a * camera.horizontal + b * camera.up, camera.direction};
-    return {camera.center, normalize(a * camera.horizontal + b * camera.up + camera.direction)};
-}
-
 Ray camera_ray(const Camera& camera, float px, float py, float lens_u, float lens_v) {
     const Ray pinhole = camera_ray(camera, px, py);
     if (camera.lens_radius <= 0 || camera.projection != Camera::Projection::Perspective) return pinhole;

@@ -31,7 +31,14 @@ Camera make_camera(const CameraDesc& desc, int width, int height, const Conventi
 
 /// The ray through the point (px, py) of the image plane, in pixel units: the course's pixel
 /// (x, y) is the point (x + pixel_offset, y + pixel_offset).
-Ray camera_ray(const Camera& camera, float px, float py);
+/// Inline: the renderer calls it once per pixel, and a call returns the ray through memory.
+inline Ray camera_ray(const Camera& camera, float px, float py) {
+    const float a = (px - camera.cx) / camera.fx;
+    const float b = (py - camera.cy) / camera.fy;
+    if (camera.projection == Camera::Projection::Orthographic)
+        return {camera.center + a * camera.horizontal + b * camera.up, camera.direction};
+    return {camera.center, normalize(a * camera.horizontal + b * camera.up + camera.direction)};
+}
 
 /// The same through a thin lens: (lens_u, lens_v) in [0, 1)² picks the point on the aperture.
 Ray camera_ray(const Camera& camera, float px, float py, float lens_u, float lens_v);

@@ -11,8 +11,8 @@ namespace raycast {
 namespace {
 
 // Offers a candidate hit; keeps it if it beats the current best.
-inline void offer(Hit& best, float t, float u, float v, uint32_t object, uint32_t prim) {
-    if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim};
+inline void offer(Hit& best, float t, float u, float v, uint32_t object, uint32_t prim, uint32_t leaf = 0) {
+    if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim, leaf};
 }
 
 template <bool kAnyHit>
@@ -39,7 +39,7 @@ struct Query {
                     if (kAnyHit) {
                         if (hit.t < t_max) return true;
                     } else {
-                        offer(best, hit.t, hit.u, hit.v, object, ids[i]);
+                        offer(best, hit.t, hit.u, hit.v, object, ids[i], i);
                     }
                 }
                 return false;
@@ -129,9 +129,10 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
             break;
         }
         case ShapeKind::Mesh: {
-            const TriangleMesh& mesh = scene.meshes[inst.shape].mesh;
-            const uint32_t* corner = &mesh.indices[3 * size_t{hit.prim}];
-            normal = triangle_normal(mesh.positions[corner[0]], mesh.positions[corner[1]], mesh.positions[corner[2]]);
+            const MeshShape& shape = scene.meshes[inst.shape];
+            const TriangleMesh& mesh = shape.mesh;
+            const LeafTriangle& corners = shape.leaf_triangles[hit.leaf];
+            normal = triangle_normal(corners.p0, corners.p1, corners.p2);
             if (mesh.has_normals()) {
                 const uint32_t* n = &mesh.normal_indices[3 * size_t{hit.prim}];
                 if (n[0] != kNoNormal && n[1] != kNoNormal && n[2] != kNoNormal) {

@@ -111,21 +111,14 @@ inline VF cull_distance_v(VF t_best) { return t_best + vabs(t_best) * splat(1.0f
 // The slab test in every lane, widened like intersect_box so that it never misses.
 inline VM box_hits(const BvhNode& node, const PacketRays& r, VF t_min, VF t_cull, VF& t_entry) {
     const Bounds3f& b = node.bounds;
-    VF n0 = (splat(b.lower.x) - r.ox) * r.ix, f0 = (splat(b.upper.x) - r.ox) * r.ix;
-    VF n1 = (splat(b.lower.y) - r.oy) * r.iy, f1 = (splat(b.upper.y) - r.oy) * r.iy;
-    VF n2 = (splat(b.lower.z) - r.oz) * r.iz, f2 = (splat(b.upper.z) - r.oz) * r.iz;
-    VF near0 = vmin(n0, f0), far0 = vmax(n0, f0);
-    VF near1 = vmin(n1, f1), far1 = vmax(n1, f1);
-    VF near2 = vmin(n2, f2), far2 = vmax(n2, f2);
+    const VF n0 = (splat(b.lower.x) - r.ox) * r.ix, f0 = (splat(b.upper.x) - r.ox) * r.ix;
+    const VF n1 = (splat(b.lower.y) - r.oy) * r.iy, f1 = (splat(b.upper.y) - r.oy) * r.iy;
+    const VF n2 = (splat(b.lower.z) - r.oz) * r.iz, f2 = (splat(b.upper.z) - r.oz) * r.iz;
+    const VF near = vmax(vmax(vmin(n0, f0), vmin(n1, f1)), vmin(n2, f2));
+    const VF far = vmin(vmin(vmax(n0, f0), vmax(n1, f1)), vmax(n2, f2));
     const VF widen = splat(kBoxWiden);
-    near0 = near0 - vabs(near0) * widen;
-    near1 = near1 - vabs(near1) * widen;
-    near2 = near2 - vabs(near2) * widen;
-    far0 = far0 + vabs(far0) * widen;
-    far1 = far1 + vabs(far1) * widen;
-    far2 = far2 + vabs(far2) * widen;
-    const VF t0 = vmax(vmax(near0, near1), vmax(near2, t_min));
-    const VF t1 = vmin(vmin(far0, far1), vmin(far2, t_cull));
+    const VF t0 = vmax(near - vabs(near) * widen, t_min);
+    const VF t1 = vmin(far + vabs(far) * widen, t_cull);
     t_entry = t0;
     return (t0 <= t1) & r.live;
 }
@@ -186,7 +179,7 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
 
 // Offers each lane in `candidates` the hit (t, u, v) on (object, prim); keeps the closer, with
 // ties broken as is_closer() does.
-inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t object, uint32_t prim) {
+inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t object, uint32_t prim, uint32_t leaf) {
     VM closer = candidates & (t < s.best_t);
     const VM ties = candidates & (t == s.best_t);
     if (any(ties)) {
@@ -211,13 +204,15 @@ inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t obje
         hit.v = vs[lane];
         hit.object = object;
         hit.prim = prim;
+        hit.leaf = leaf;
     }
     s.best_t = select(closer, t, s.best_t);
 }
 
 // The watertight test of intersect_triangle, term for term, in every lane.
 inline void intersect_triangle_packet(PacketState& s, const WatertightPacket& w, const VM& live,
-                                      const LeafTriangle& tri, uint32_t object, uint32_t prim) {
+                                      const PacketMeshView& mesh, uint32_t leaf, uint32_t object) {
+    const LeafTriangle& tri = mesh.triangles[leaf];
     const VF a_kx = splat(pick(tri.p0.x, tri.p0.y, tri.p0.z, w.kx)) - w.okx;
     const VF a_ky = splat(pick(tri.p0.x, tri.p0.y, tri.p0.z, w.ky)) - w.oky;
     const VF a_kz = splat(pick(tri.p0.x, tri.p0.y, tri.p0.z, w.kz)) - w.okz;
@@ -245,7 +240,8 @@ inline void intersect_triangle_packet(PacketState& s, const WatertightPacket& w,
     const VF t = (u0 * az + u1 * bz + u2 * cz) / det;
     valid = valid & (t > s.t_min_v);
     if (!any(valid)) return;
-    offer(s, valid, t, u1 / det, u2 / det, object, prim);
+    // The triangle's id is read only for a hit: another array, and mostly another cache line.
+    offer(s, valid, t, u1 / det, u2 / det, object, mesh.prim_ids[leaf], leaf);
 }
 
 inline void refresh_best(PacketState& s) {
@@ -268,7 +264,7 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
     if (mesh.node_count == 0) return;
     traverse_packet(mesh.nodes, r, s.t_min_v, s.best_t, [&](uint32_t first, uint32_t count, VM) {
         for (uint32_t i = first; i < first + count; ++i)
-            intersect_triangle_packet(s, w, r.live, mesh.triangles[i], object, mesh.prim_ids[i]);
+            intersect_triangle_packet(s, w, r.live, mesh, i, object);
     });
 }
 
