@@ -135,9 +135,10 @@ public:
     }
 
 private:
-    struct WorkerTotals {
+    // One per thread, each on its own cache lines: a thread updates its counters for every
+    // pixel, and sharing a line with another thread's would make the two cores fight over it.
+    struct alignas(64) WorkerTotals {
         uint64_t rays = 0, hits = 0, nodes_visited = 0;
-        char padding[40];  // keep each thread's counters on its own cache line
         // The tile's finished pixels, row by row, copied to the image at the end: neighbouring
         // tiles, rendered by different threads at once, share cache lines of the image (a row of
         // 16 pixels is 48 bytes), which pixel-by-pixel writes would bounce between cores.
