@@ -490,6 +490,13 @@ bool expect_same_as_brute_force(const Scene& scene, const Ray& ray, float t_min,
     EXPECT_TRUE(same) << describe(ray, t_min) << "\n  bvh:         " << describe(fast)
                       << "\n  brute force: " << describe(slow);
     if (!same) return false;
+    if (fast.is_hit() && scene.instances[fast.object].kind == ShapeKind::Mesh) {
+        // surface_at finds the triangle's corners through its leaf slot.
+        const MeshShape& mesh = scene.meshes[scene.instances[fast.object].shape];
+        const bool slot_ok = fast.leaf < mesh.bvh.prim_order.size() && mesh.bvh.prim_order[fast.leaf] == fast.prim;
+        EXPECT_TRUE(slot_ok) << describe(ray, t_min) << ": leaf slot " << fast.leaf << " is not triangle " << fast.prim;
+        if (!slot_ok) return false;
+    }
     bool occluded_right = true;
     if (slow.is_hit() && std::isfinite(slow.t)) {
         occluded_right = !occluded(scene, ray, t_min, slow.t) && occluded(scene, ray, t_min, std::nextafter(slow.t, INFINITY));

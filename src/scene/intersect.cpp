@@ -131,6 +131,7 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
         case ShapeKind::Mesh: {
             const MeshShape& shape = scene.meshes[inst.shape];
             const TriangleMesh& mesh = shape.mesh;
+            RAYCAST_DCHECK(hit.leaf < shape.leaf_triangles.size() && shape.bvh.prim_order[hit.leaf] == hit.prim);
             const LeafTriangle& corners = shape.leaf_triangles[hit.leaf];
             normal = triangle_normal(corners.p0, corners.p1, corners.p2);
             if (mesh.has_normals()) {
