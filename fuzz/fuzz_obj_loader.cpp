@@ -56,8 +56,8 @@ Outcome parse(std::string_view text, int threads, size_t chunk_bytes) {
     return outcome;
 }
 
-template <typename T>
-bool same_array(const std::vector<T>& a, const std::vector<T>& b) {
+template <typename T, typename Allocator>
+bool same_array(const std::vector<T, Allocator>& a, const std::vector<T, Allocator>& b) {
     return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
