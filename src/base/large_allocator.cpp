@@ -30,8 +30,7 @@ void* allocate_large_block(size_t bytes) {
     if (aligned > start) munmap(mapping, aligned - start);
     const uintptr_t end = start + length + kLargeBlockBytes;
     if (end > aligned + length) munmap(reinterpret_cast<void*>(aligned + length), end - (aligned + length));
-    // Advice only: where transparent huge pages are off this fails and nothing changes.
-    madvise(reinterpret_cast<void*>(aligned), length, MADV_HUGEPAGE);
+    advise_huge_pages(reinterpret_cast<void*>(aligned), length);
     return reinterpret_cast<void*>(aligned);
 }
 
@@ -45,5 +44,17 @@ void* allocate_large_block(size_t bytes) { return ::operator new(bytes); }
 void free_large_block(void* block, size_t) { ::operator delete(block); }
 
 #endif
+
+void advise_huge_pages(const void* data, size_t bytes) {
+#ifdef MADV_HUGEPAGE
+    const uintptr_t first = round_up(reinterpret_cast<uintptr_t>(data), kPageBytes);
+    const uintptr_t last = (reinterpret_cast<uintptr_t>(data) + bytes) / kPageBytes * kPageBytes;
+    if (bytes >= kLargeBlockBytes && last > first)
+        madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#else
+    (void)data;
+    (void)bytes;
+#endif
+}
 
 }  // namespace raycast

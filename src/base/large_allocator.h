@@ -24,6 +24,11 @@ void* allocate_large_block(size_t bytes);
 /// Returns a block from allocate_large_block; `bytes` is the size it was allocated with.
 void free_large_block(void* block, size_t bytes);
 
+/// Asks for transparent huge pages on the whole 4 KiB pages of [data, data + bytes), if bytes is
+/// at least 2 MiB, before they are first written (for arrays allocated elsewhere, such as a
+/// std::vector after reserve()). Only advice: where the kernel has no THP, nothing changes.
+void advise_huge_pages(const void* data, size_t bytes);
+
 template <typename T>
 struct LargeAllocator {
     using value_type = T;

@@ -1,7 +1,6 @@
 #include "sceneio/load_obj.h"
 
 #include <fcntl.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -16,6 +15,7 @@
 
 #include "base/check.h"
 #include "base/error.h"
+#include "base/large_allocator.h"
 #include "base/limits.h"
 #include "base/parallel.h"
 #include "base/parse_number.h"
@@ -123,24 +123,9 @@ std::string shorten_token(const char* first, const char* last) {
 
 std::string quote_token(const char* first, const char* last) { return "'" + shorten_token(first, last) + "'"; }
 
-// Asks for transparent huge pages on a large array about to be written for the first time. Fresh
-// pages dominated the load time without it: a 1M-triangle OBJ touches ~14k 4 KiB pages, and a page
-// fault costs ~10 us in the virtual machines we run on (2 MiB pages also spare the TLB on bare metal).
-// Only advice: where the kernel has no THP, nothing changes.
-void advise_huge_pages(const void* data, size_t bytes) {
-#ifdef MADV_HUGEPAGE
-    constexpr uintptr_t kPage = 4096;
-    const uintptr_t first = (reinterpret_cast<uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
-    const uintptr_t last = (reinterpret_cast<uintptr_t>(data) + bytes) & ~(kPage - 1);
-    if (bytes >= (size_t{2} << 20) && last > first)
-        ::madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
-#else
-    (void)data;
-    (void)bytes;
-#endif
-}
-
 // Sizes a mesh array that the parser is about to fill, asking for huge pages before the first touch.
+// Fresh pages dominated the load time: a 1M-triangle OBJ touches ~14k 4 KiB pages, and a page
+// fault costs ~10 us in the virtual machines we run on (2 MiB pages also spare the TLB on bare metal).
 template <typename T>
 void size_for_writing(std::vector<T>& array, uint64_t size) {
     array.reserve(size);
