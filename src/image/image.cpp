@@ -4,11 +4,7 @@ namespace raycast {
 
 ImageRgb8 quantize(const Image& image) {
     ImageRgb8 out(image.width, image.height);
-    for (size_t i = 0; i < image.pixels.size(); ++i) {
-        out.rgb[3 * i + 0] = to_byte(image.pixels[i].x);
-        out.rgb[3 * i + 1] = to_byte(image.pixels[i].y);
-        out.rgb[3 * i + 2] = to_byte(image.pixels[i].z);
-    }
+    for (size_t i = 0; i < image.pixels.size(); ++i) to_bytes(image.pixels[i], &out.rgb[3 * i]);
     return out;
 }
 

@@ -45,6 +45,13 @@ inline uint8_t to_byte(float c) {
     return static_cast<uint8_t>(c * 255.0f);
 }
 
+/// Writes a pixel's three channels, each with to_byte.
+inline void to_bytes(Vec3f color, uint8_t* rgb) {
+    rgb[0] = to_byte(color.x);
+    rgb[1] = to_byte(color.y);
+    rgb[2] = to_byte(color.z);
+}
+
 /// Converts every pixel with to_byte.
 ImageRgb8 quantize(const Image& image);
 

@@ -196,11 +196,7 @@ private:
                 continue;
             }
             uint8_t* byte = bytes_->at(x_begin, y);
-            for (int x = x_begin; x < x_end; ++x, ++colors, byte += 3) {
-                byte[0] = to_byte(colors->x);
-                byte[1] = to_byte(colors->y);
-                byte[2] = to_byte(colors->z);
-            }
+            for (int x = x_begin; x < x_end; ++x, ++colors, byte += 3) to_bytes(*colors, byte);
         }
     }
 
