@@ -28,8 +28,12 @@ Options:
                              milliseconds, rays, Mrays/s, triangles, threads
   -q, --quiet                no warnings, no progress bar
       --conventions NAME     course (default with this form) or mit6837 (default with -input)
-      --fov vertical|both    for width != height: angle spans the height and pixels are square
-                             (vertical, the default), or angle spans both axes (both)
+      --fov both|vertical    for width != height: angle spans both axes, pixels stretched as the
+                             course's handout defines them (both, the default of the course's
+                             conventions), or only the height, with square pixels (vertical,
+                             MIT 6.837's default)
+      --allow-missing-meshes render without a TriangleMesh whose OBJ file cannot be found (a
+                             warning, not an error), as the course's starter does
       --mode MODE            shaded (default), normals, depth, material or cost
       --depth FILE           also write a depth image (grey: near white, far black)
       --normals FILE         also write a normals image (|n| per channel)
@@ -127,19 +131,31 @@ private:
     int index_ = 1;
 };
 
-void check_render_options(CliOptions& options, const std::vector<std::string>& positional, bool conventions_given) {
+// The switches that adjust a course's conventions, kept apart until the command line is read, so
+// that they apply whichever conventions are chosen and in whatever order they were given.
+struct ConventionChoices {
+    const char* name = nullptr;  ///< "course" or "mit6837" from --conventions; null: by the form
+    bool fov_given = false;
+    FovAxis fov_axis = FovAxis::Both;
+    bool shade_back = false;
+    bool specular_fix = false;
+};
+
+Conventions chosen_conventions(const ConventionChoices& choices, bool mit_form) {
+    const bool mit = choices.name ? std::strcmp(choices.name, "mit6837") == 0 : mit_form;
+    Conventions conventions = mit ? Conventions::mit6837() : Conventions::course();
+    if (choices.fov_given) conventions.fov_axis = choices.fov_axis;
+    if (choices.shade_back) conventions.shade_back_faces = true;
+    if (choices.specular_fix) conventions.specular = SpecularModel::BlinnTimesNdotL;
+    return conventions;
+}
+
+void check_render_options(CliOptions& options, const std::vector<std::string>& positional) {
     if (options.mit_form) {
         if (!positional.empty()) usage_error("unexpected argument '" + positional[0] + "' (with -input, name files with -output)");
         if (options.scene_path.empty()) usage_error("-input SCENE is missing");
         if (options.output_path.empty() && options.depth_path.empty() && options.normals_path.empty())
             usage_error("nothing to write: give -output FILE (or -depth NEAR FAR FILE, or -normals FILE)");
-        if (!conventions_given) {
-            const Conventions given = options.conventions;
-            options.conventions = Conventions::mit6837();
-            options.conventions.fov_axis = given.fov_axis;
-            options.conventions.shade_back_faces = given.shade_back_faces;
-            if (given.specular == SpecularModel::BlinnTimesNdotL) options.conventions.specular = given.specular;
-        }
     } else {
         if (positional.size() < 2)
             usage_error(positional.empty() ? "missing SCENE and OUTPUT" : "missing OUTPUT (the image to write)");
@@ -205,7 +221,7 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
 
     Arguments args(argc, argv);
     std::vector<std::string> positional;
-    bool conventions_given = false;
+    ConventionChoices choices;
     while (!args.done()) {
         const std::string arg = args.next();
         if (arg == "-h" || arg == "--help") {
@@ -237,9 +253,9 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             options.mit_form = true;
             options.normals_path = args.value_for(arg);
         } else if (arg == "-shade_back" || arg == "--shade-back") {
-            options.conventions.shade_back_faces = true;
+            choices.shade_back = true;
         } else if (arg == "-specular_fix" || arg == "--specular-fix") {
-            options.conventions.specular = SpecularModel::BlinnTimesNdotL;
+            choices.specular_fix = true;
         } else if (arg == "-shadows" || arg == "--shadows") {
             options.render.shadows = true;
         } else if (arg == "-gui" || arg == "-gouraud") {
@@ -257,31 +273,29 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             options.threads = parse_positive_int(args.value_for(arg), arg, 4096);
         } else if (arg == "--size") {
             parse_size(args.value_for(arg), arg, options);
+        } else if (arg == "--allow-missing-meshes") {
+            options.allow_missing_meshes = true;
         } else if (arg == "--stats") {
             options.stats = true;
         } else if (arg == "-q" || arg == "--quiet") {
             options.quiet = true;
         } else if (arg == "--conventions") {
             const std::string name = args.value_for(arg);
-            const Conventions given = options.conventions;
             if (name == "course")
-                options.conventions = Conventions::course();
+                choices.name = "course";
             else if (name == "mit6837")
-                options.conventions = Conventions::mit6837();
+                choices.name = "mit6837";
             else
                 usage_error("--conventions must be course or mit6837, got '" + name + "'");
-            options.conventions.fov_axis = given.fov_axis;
-            options.conventions.shade_back_faces = given.shade_back_faces;
-            if (given.specular == SpecularModel::BlinnTimesNdotL) options.conventions.specular = given.specular;
-            conventions_given = true;
         } else if (arg == "--fov") {
             const std::string axis = args.value_for(arg);
             if (axis == "vertical")
-                options.conventions.fov_axis = FovAxis::Vertical;
+                choices.fov_axis = FovAxis::Vertical;
             else if (axis == "both")
-                options.conventions.fov_axis = FovAxis::Both;
+                choices.fov_axis = FovAxis::Both;
             else
                 usage_error("--fov must be vertical or both, got '" + axis + "'");
+            choices.fov_given = true;
         } else if (arg == "--mode") {
             const std::string mode = args.value_for(arg);
             if (mode == "shaded") options.render.mode = RenderMode::Shaded;
@@ -334,7 +348,9 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             positional.push_back(arg);
         }
     }
-    check_render_options(options, positional, conventions_given);
+    check_render_options(options, positional);
+    options.conventions = chosen_conventions(choices, options.mit_form);
+    options.fov_given = choices.fov_given;
     return options;
 }
 

@@ -33,6 +33,8 @@ struct CliOptions {
     bool stats = false;
     bool quiet = false;
     Conventions conventions;
+    bool fov_given = false;     ///< --fov was given (else the conventions' own reading, noted when it stretches)
+    bool allow_missing_meshes = false;  ///< a mesh file that cannot be found is a warning, not an error
     RenderOptions render;       ///< mode, samples, shadows, crop, depth range, packets, tile size
     float aperture = 0;         ///< thin-lens diameter in world units; 0 is a pinhole
     float focus_distance = 0;   ///< 0: the distance to the point the camera looks at… (see --help)

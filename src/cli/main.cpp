@@ -121,6 +121,7 @@ int run_render(const CliOptions& options) {
     Timer load_timer;
     SceneLoadOptions load_options;
     load_options.threads = threads;
+    load_options.allow_missing_meshes = options.allow_missing_meshes;
     SceneDesc desc = load_scene_file(options.scene_path, load_options);
     const double load_ms = load_timer.elapsed_ms();
     if (!options.quiet) print_diagnostics(desc.warnings);
@@ -138,6 +139,14 @@ int run_render(const CliOptions& options) {
         scene.camera.lens_radius = options.aperture / 2;
         scene.camera.focus_distance = options.has_focus_distance ? options.focus_distance : auto_focus_distance(scene);
     }
+    const Camera& camera = scene.camera;
+    if (!options.quiet && !options.fov_given && options.conventions.fov_axis == FovAxis::Both &&
+        camera.width != camera.height)
+        std::fprintf(stderr,
+                     "raycast: note: the image is %dx%d and the camera's %s spans both its width and its height, so "
+                     "pixels are stretched as the course's handout defines them; --fov vertical gives square pixels\n",
+                     camera.width, camera.height,
+                     camera.projection == Camera::Projection::Perspective ? "angle" : "size");
     if (!options.quiet && scene.lights.empty() && scene.ambient == Vec3f{0, 0, 0} &&
         options.render.mode == RenderMode::Shaded)
         std::fprintf(stderr, "%s: warning: the scene has no lights and no ambient light: every object will be black\n",

@@ -599,8 +599,9 @@ TEST(RenderTest, MaterialModeGivesOneFlatColourPerMaterial) {
     RenderOptions options;
     options.mode = RenderMode::Material;
     const Image image = render_image(scene, options);
-    // Column of each sphere's centre: x = cx + f·X/10 with fy = 6/tan 15° = 22.39 and cx = 15.
-    const float f = 6 / std::tan(15 * 3.14159265f / 180);
+    // Column of each sphere's centre: x = cx + fx·X/10 with cx = 15 and, as the course's handout
+    // defines the camera (angle spans the width too), fx = 15/tan 15° = 55.98.
+    const float f = 15 / std::tan(15 * 3.14159265f / 180);
     const int left = static_cast<int>(std::lround(15 - f * 0.25f)), right = static_cast<int>(std::lround(15 + f * 0.25f));
     const Vec3f m0 = image.at(left, 6), m1 = image.at(15, 6);
     EXPECT_NE(m0, m1);

@@ -132,6 +132,8 @@ private:
     }
 
     void add_primitive(const ObjectDesc& object, const Mat4& world_from_object, bool moved) {
+        // A mesh whose file was not found, left out on request (--allow-missing-meshes).
+        if (object.kind == ObjectDesc::Kind::TriangleMesh && object.mesh < 0) return;
         Instance instance;
         instance.material = static_cast<uint32_t>(object.material);
         Mat4 object_from_world;

@@ -226,15 +226,29 @@ TEST(CameraTest, OrthographicRaysAreParallelWithOriginsSpreadOverSize) {
 
 TEST(CameraTest, OrthographicSizeSpansTheHeightWithSquarePixelsOrBothWhenStretched) {
     // 8×4, size 2: square pixels: 4/2 = 2 pixels per unit both ways, so the width spans 4 units.
-    const Camera square = make_camera(orthographic(2, 8, 4), 8, 4, Conventions::course());
+    Conventions vertical;
+    vertical.fov_axis = FovAxis::Vertical;
+    const Camera square = make_camera(orthographic(2, 8, 4), 8, 4, vertical);
     EXPECT_NEAR(square.fx, 2, kTol);
     EXPECT_NEAR(square.fy, 2, kTol);
     EXPECT_NEAR(camera_ray(square, 8, 0).origin.x - camera_ray(square, 0, 0).origin.x, 4, kTol);
-    Conventions both;
-    both.fov_axis = FovAxis::Both;
-    const Camera stretched = make_camera(orthographic(2, 8, 4), 8, 4, both);
+    // Stretched (the course's default): the width spans the size too, 8/2 = 4 pixels per unit.
+    const Camera stretched = make_camera(orthographic(2, 8, 4), 8, 4, Conventions::course());
     EXPECT_NEAR(stretched.fx, 4, kTol);
     EXPECT_NEAR(camera_ray(stretched, 8, 0).origin.x - camera_ray(stretched, 0, 0).origin.x, 2, kTol);
+}
+
+TEST(CameraTest, TheCourseReadsAngleAsSpanningBothAxesAndMitAsTheVerticalOne) {
+    // The course's handout: f_x = (w/2)/tan(angle/2), f_y = (h/2)/tan(angle/2). MIT 6.837's images
+    // (all square) are made with angle as the vertical field of view.
+    EXPECT_EQ(Conventions::course().fov_axis, FovAxis::Both);
+    EXPECT_EQ(Conventions::mit6837().fov_axis, FovAxis::Vertical);
+    EXPECT_EQ(Conventions{}.fov_axis, FovAxis::Both);
+    // 4×2 at 90°: tan 45° = 1, so f_x = 2 and f_y = 1 under the course's reading.
+    const Camera course = make_camera(perspective({0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 90, 4, 2), 4, 2,
+                                      Conventions::course());
+    EXPECT_NEAR(course.fx, 2, kTol);
+    EXPECT_NEAR(course.fy, 1, kTol);
 }
 
 TEST(CameraTest, MitOrthographicCameraSeesBehindItsCenter) {

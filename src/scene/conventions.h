@@ -10,8 +10,10 @@ namespace raycast {
 
 /// Which image axis `angle` (or an orthographic `size`) spans when width != height.
 enum class FovAxis {
-    Vertical,  ///< angle is the vertical field of view; pixels are square (the default)
-    Both,      ///< both axes span angle; pixels are stretched (the handout's literal reading)
+    Vertical,  ///< angle is the vertical field of view; pixels are square (MIT 6.837)
+    /// Both axes span angle, so pixels are stretched: the course handout's f_x = (w/2)/tan(angle/2)
+    /// and f_y = (h/2)/tan(angle/2), which most course solutions implement (the course's default).
+    Both,
 };
 
 enum class SpecularModel {
@@ -22,7 +24,7 @@ enum class SpecularModel {
 
 struct Conventions {
     float pixel_offset = 0;   ///< added to integer pixel coordinates: 0 (course) or 0.5 (centres)
-    FovAxis fov_axis = FovAxis::Vertical;
+    FovAxis fov_axis = FovAxis::Both;
     SpecularModel specular = SpecularModel::Phong;
     float default_shininess = 0;          ///< when a material gives none: 0 (course), 1 (MIT)
     bool ambient_without_lights = false;  ///< a scene without a Lights block gets ambient 1 1 1
@@ -34,6 +36,7 @@ struct Conventions {
     static Conventions mit6837() {
         Conventions c;
         c.pixel_offset = 0.5f;
+        c.fov_axis = FovAxis::Vertical;
         c.specular = SpecularModel::BlinnClampedByNdotL;
         c.default_shininess = 1;
         c.ambient_without_lights = true;

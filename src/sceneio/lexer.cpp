@@ -46,6 +46,14 @@ Token Lexer::scan() {
     const size_t start = position_;
     if (source_[position_] == '{' || source_[position_] == '}') {
         ++position_;
+    } else if (source_[position_] == '"') {
+        // A quoted file name: one token up to the closing quote, spaces, braces and '#' included.
+        // Without a closing quote on its line it runs to the end of the line, and the parser says so.
+        ++position_;
+        while (position_ < source_.size() && source_[position_] != '"' && source_[position_] != '\n' &&
+               source_[position_] != '\r')
+            ++position_;
+        if (position_ < source_.size() && source_[position_] == '"') ++position_;
     } else {
         while (position_ < source_.size() && !ends_token(source_[position_])) ++position_;
     }

@@ -1,7 +1,8 @@
 // Splits scene text into tokens the way the course's parser reads them (whitespace-separated,
 // so CRLF and tabs are fine), with two additions: braces are always tokens of their own
-// (`shininess 20}` works, as it does with the course's "%f"), and `#` starts a comment that runs
-// to the end of the line. Every token knows its line and column.
+// (`shininess 20}` works, as it does with the course's "%f"), `#` starts a comment that runs
+// to the end of the line, and a double-quoted string ("mesh/my model.obj") is one token, quotes
+// included. Every token knows its line and column.
 #pragma once
 
 #include <string>

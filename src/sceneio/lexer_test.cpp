@@ -92,6 +92,19 @@ TEST(LexerTest, HashStartsACommentThatRunsToTheEndOfTheLine) {
     EXPECT_EQ(positioned("# c\r\ny"), (Strings{"y@2:1", "<end>@2:2"}));
 }
 
+TEST(LexerTest, ADoubleQuotedStringIsOneTokenWithItsQuotes) {
+    // Spaces, braces and '#' inside quotes belong to the token; braces there do not count.
+    EXPECT_EQ(positioned("obj_file \"my {model} #1.obj\"}\nx"),
+              (Strings{"obj_file@1:1", "\"my {model} #1.obj\"@1:10", "}@1:29", "x@2:1", "<end>@2:2"}));
+    // A quote only opens a string at the start of a token.
+    EXPECT_EQ(texts("a\"b c\""), (Strings{"a\"b", "c\""}));
+}
+
+TEST(LexerTest, AnUnclosedQuoteRunsToTheEndOfItsLine) {
+    EXPECT_EQ(positioned("\"my model.obj }\r\n}"), (Strings{"\"my model.obj }@1:1", "}@2:1", "<end>@2:2"}));
+    EXPECT_EQ(texts("\""), (Strings{"\""}));
+}
+
 TEST(LexerTest, HashGluedToATokenEndsItAndStartsAComment) {
     EXPECT_EQ(texts("radius 1#comment\ncenter"), (Strings{"radius", "1", "center"}));
 }

@@ -35,6 +35,7 @@ public:
     }
 
     std::vector<Diagnostic>& errors() { return errors_; }
+    std::vector<Diagnostic>& warnings() { return warnings_; }
 
 private:
     // Where a mesh path is looked for: as written (from the working directory, the course's rule),
@@ -67,7 +68,15 @@ private:
                 if (i > 0) message += i + 1 == tried.size() ? " and " : ", ";
                 message += quote(tried[i].first) + " (" + tried[i].second + ")";
             }
-            errors_.push_back({Severity::Error, object.mesh_path_location, message, ""});
+            if (options_.allow_missing_meshes) {
+                warnings_.push_back({Severity::Warning, object.mesh_path_location, message, ""});
+                warnings_.push_back({Severity::Note, line_only(object.mesh_path_location),
+                                     "the scene is rendered without this mesh (--allow-missing-meshes)", ""});
+            } else {
+                errors_.push_back({Severity::Error, object.mesh_path_location, message, ""});
+                errors_.push_back({Severity::Note, line_only(object.mesh_path_location),
+                                   "--allow-missing-meshes renders the rest of the scene without it", ""});
+            }
             return;
         }
         auto known = index_of_path_.find(*found);
@@ -89,11 +98,17 @@ private:
     }
 
     static std::string quote(const std::string& s) { return "'" + s + "'"; }
+    // A note about the line just shown: located, without repeating the line and its caret.
+    static SourceLocation line_only(SourceLocation at) {
+        at.column = 0;
+        return at;
+    }
 
     SceneDesc& desc_;
     const SceneLoadOptions& options_;
     std::map<std::string, int> index_of_path_;
     std::vector<Diagnostic> errors_;
+    std::vector<Diagnostic> warnings_;
 };
 
 // Attaches the source line to diagnostics located in the scene text (the OBJ loader fills its own).
@@ -150,6 +165,8 @@ SceneDesc load_scene_text(const std::string& text, const std::string& file_name,
             add_source_lines(all, text, file_name);
             throw InputError(std::move(all));
         }
+        add_source_lines(loader.warnings(), text, file_name);
+        for (Diagnostic& warning : loader.warnings()) desc.warnings.push_back(std::move(warning));
     }
     return desc;
 }

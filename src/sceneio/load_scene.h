@@ -9,11 +9,15 @@ namespace raycast {
 
 struct SceneLoadOptions {
     int threads = 1;  ///< for parsing large OBJ files
+    /// A mesh file that is found nowhere becomes a warning (and the object is left out) instead of
+    /// an error: the course starter's leniency, for scenes shared without their large meshes.
+    bool allow_missing_meshes = false;
 };
 
 /// Reads and parses the scene file, then loads every OBJ file it names, each once. A relative mesh
 /// path is tried as written (from the working directory, the course's rule), then from the scene
-/// file's folder, then from that folder's parent. Throws InputError with every problem found.
+/// file's folder, then from that folder's parent. Throws InputError with every problem found;
+/// warnings (including meshes left out with allow_missing_meshes) go to SceneDesc::warnings.
 SceneDesc load_scene_file(const std::string& path, const SceneLoadOptions& options = {});
 
 /// The same for scene text in memory; `file_name` labels diagnostics and gives the folder for

@@ -135,6 +135,18 @@ private:
         return token.is_end() ? std::string("the end of the file") : quote_token(token.text);
     }
 
+    // A file name after `field`: one token, or a double-quoted string, which may hold spaces.
+    std::string read_file_name(std::string_view field) {
+        const Token path = lexer_.take();
+        if (path.is_end() || path.is("{") || path.is("}"))
+            fail(path, "expected a file name for " + quote_token(field) + ", got " + describe(path));
+        if (path.text.front() != '"') return std::string(path.text);
+        if (path.text.size() < 2 || path.text.back() != '"')
+            fail(path, "the file name's quote is not closed: add a '\"' before the end of the line");
+        if (path.text.size() == 2) fail(path, "the file name for " + quote_token(field) + " is empty");
+        return std::string(path.text.substr(1, path.text.size() - 2));
+    }
+
     [[noreturn]] void fail_unclosed(const Token& at, const Token& block) {
         fail(at, string_printf("unexpected end of file: %s opened at line %d is not closed",
                                quote_token(block.text).c_str(), block.line));
@@ -200,6 +212,7 @@ private:
     Token finish_fields(const Token& block, std::vector<Field>& fields) {
         expect_open(block);
         Token close;
+        std::vector<Token> first_given(fields.size());  // where each field was first given
         for (;;) {
             const Token token = lexer_.take();
             if (token.is("}")) {
@@ -218,7 +231,16 @@ private:
                 skip_unknown_field(fields);
                 continue;
             }
-            if (field->seen) fail(token, "duplicate field " + quote_token(token.text) + " in " + std::string(block.text));
+            if (field->seen) {
+                // The course's starter reads fields in a loop, so the last value wins; say so, and
+                // where the overridden one was.
+                warning(token, quote_token(token.text) + " is given twice in " + std::string(block.text) +
+                                   ": the last value is used");
+                report(first_given[static_cast<size_t>(field - fields.begin())], Severity::Note,
+                       "the first value was given here");
+            } else {
+                first_given[static_cast<size_t>(field - fields.begin())] = token;
+            }
             field->seen = true;
             field->read(token);
         }
@@ -489,15 +511,7 @@ private:
             {"specularColor", [&](const Token&) { material.specular = read_vec3("specularColor"); }, false},
             {"shininess", read_exponent, false},
             {"exponent", read_exponent, false},
-            {"texture",
-             [&](const Token& t) {
-                 const Token path = lexer_.take();
-                 if (path.is_end() || path.is("{") || path.is("}"))
-                     fail(path, "expected a file name for 'texture', got " + describe(path));
-                 (void)t;
-                 material.texture = std::string(path.text);
-             },
-             false},
+            {"texture", [&](const Token&) { material.texture = read_file_name("texture"); }, false},
             {"reflectiveColor", [&](const Token&) { material.reflective = read_vec3("reflectiveColor"); }, false},
             {"transparentColor", [&](const Token&) { material.transparent = read_vec3("transparentColor"); }, false},
             {"indexOfRefraction",
@@ -644,11 +658,8 @@ private:
             std::vector<Field> fields = {
                 {"obj_file",
                  [&](const Token&) {
-                     const Token path = lexer_.take();
-                     if (path.is_end() || path.is("{") || path.is("}"))
-                         fail(path, "expected a file name for 'obj_file', got " + describe(path));
-                     object.mesh_path = std::string(path.text);
-                     object.mesh_path_location = lexer_.location(path);
+                     object.mesh_path_location = lexer_.location(lexer_.peek());
+                     object.mesh_path = read_file_name("obj_file");
                  }},
             };
             finish_fields(keyword, fields);

@@ -263,6 +263,51 @@ TEST(ParseSceneTest, ShininessAndExponentTogetherAreAnError) {
               "s.txt:2:62: give 'shininess' or 'exponent', not both\n");
 }
 
+TEST(ParseSceneTest, AFieldGivenTwiceKeepsTheLastValueWithAWarningAtBothPlaces) {
+    // The course's starter reads fields in a loop, so the last value wins.
+    const SceneDesc desc = parse(kCamera +
+                                 "Materials { numMaterials 1\n"
+                                 "Material { diffuseColor 1 0 0\n"
+                                 "  specularColor 1 1 1 diffuseColor 0 1 0 }\n"
+                                 "}\n" +
+                                 "Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 radius 2 } }\n");
+    EXPECT_EQ(desc.materials.at(0).diffuse, Vec3f(0, 1, 0));
+    EXPECT_EQ(desc.root->children.at(0).sphere.radius, 2);
+    ASSERT_EQ(desc.warnings.size(), 4u);
+    EXPECT_EQ(located(desc.warnings[0]), "s.txt:4:23: 'diffuseColor' is given twice in Material: the last value is used");
+    EXPECT_EQ(desc.warnings[0].severity, Severity::Warning);
+    EXPECT_EQ(located(desc.warnings[1]), "s.txt:3:12: the first value was given here");
+    EXPECT_EQ(desc.warnings[1].severity, Severity::Note);
+    EXPECT_EQ(located(desc.warnings[2]), "s.txt:6:69: 'radius' is given twice in Sphere: the last value is used");
+    EXPECT_EQ(located(desc.warnings[3]), "s.txt:6:60: the first value was given here");
+    // The caret display shows each line.
+    EXPECT_EQ(desc.warnings[1].source_line, "Material { diffuseColor 1 0 0");
+}
+
+TEST(ParseSceneTest, AMeshPathMayBeQuotedAndThenHoldSpaces) {
+    const SceneDesc desc = parse(scene_with_group(3,
+                                                  "TriangleMesh { obj_file \"mesh/my model.obj\" }\n"
+                                                  "TriangleMesh { obj_file \"plain.obj\" }\n"
+                                                  "TriangleMesh { obj_file \"odd {#} name.obj\"}"));
+    ASSERT_EQ(desc.root->children.size(), 3u);
+    EXPECT_EQ(desc.root->children[0].mesh_path, "mesh/my model.obj");
+    EXPECT_EQ(desc.root->children[1].mesh_path, "plain.obj");
+    EXPECT_EQ(desc.root->children[2].mesh_path, "odd {#} name.obj");
+    // The location is the opening quote's.
+    EXPECT_EQ(desc.root->children[0].mesh_path_location.line, 5);
+    EXPECT_EQ(desc.root->children[0].mesh_path_location.column, 25);
+}
+
+TEST(ParseSceneTest, AnUnterminatedOrEmptyQuotedPathIsALocatedError) {
+    // The quoted name runs to the end of its line, taking the '}' with it: the error is at the quote,
+    // and the Group is left one brace short.
+    EXPECT_EQ(errors_of(scene_with_group(1, "TriangleMesh { obj_file \"mesh/my model.obj }\n")),
+              "s.txt:5:25: the file name's quote is not closed: add a '\"' before the end of the line\n"
+              "s.txt:8:1: unexpected end of file: 'Group' opened at line 3 is not closed\n");
+    EXPECT_EQ(errors_of(scene_with_group(1, "TriangleMesh { obj_file \"\" }")),
+              "s.txt:5:25: the file name for 'obj_file' is empty\n");
+}
+
 // ---- groups and primitives --------------------------------------------------------------------------
 
 TEST(ParseSceneTest, ReadsEveryPrimitiveWithItsFieldsInAnyOrder) {
