@@ -111,19 +111,23 @@ float auto_focus_distance(const Scene& scene) {
     return hit.t * dot(ray.direction, camera.direction);
 }
 
-int run_render(const CliOptions& options) {
-    const int threads = options.threads > 0 ? options.threads : hardware_threads();
-    for (const std::string& path : {options.output_path, options.depth_path, options.normals_path})
-        check_output_path(path, {options.scene_path}, "the scene file");
+// A scene loaded and built as the options say, with the notes and warnings a user should see.
+struct LoadedScene {
+    Scene scene;
+    std::string file;
+    double load_ms = 0, build_ms = 0;
+};
+
+LoadedScene load_and_build(const CliOptions& options, int threads) {
     if (!options.quiet)
         for (const std::string& note : options.notes) std::fprintf(stderr, "raycast: note: %s\n", note.c_str());
-
+    LoadedScene loaded;
     Timer load_timer;
     SceneLoadOptions load_options;
     load_options.threads = threads;
     load_options.allow_missing_meshes = options.allow_missing_meshes;
     SceneDesc desc = load_scene_file(options.scene_path, load_options);
-    const double load_ms = load_timer.elapsed_ms();
+    loaded.load_ms = load_timer.elapsed_ms();
     if (!options.quiet) print_diagnostics(desc.warnings);
 
     Timer build_timer;
@@ -132,25 +136,35 @@ int run_render(const CliOptions& options) {
     build_options.height = options.height;
     build_options.conventions = options.conventions;
     build_options.threads = threads;
-    const std::string scene_file = desc.file;
-    Scene scene = build_scene(std::move(desc), build_options);
-    const double build_ms = build_timer.elapsed_ms();
+    loaded.file = desc.file;
+    loaded.scene = build_scene(std::move(desc), build_options);
+    loaded.build_ms = build_timer.elapsed_ms();
+    Scene& scene = loaded.scene;
     if (options.aperture > 0) {
         scene.camera.lens_radius = options.aperture / 2;
         scene.camera.focus_distance = options.has_focus_distance ? options.focus_distance : auto_focus_distance(scene);
     }
+    if (options.quiet) return loaded;
     const Camera& camera = scene.camera;
-    if (!options.quiet && !options.fov_given && options.conventions.fov_axis == FovAxis::Both &&
-        camera.width != camera.height)
+    if (!options.fov_given && options.conventions.fov_axis == FovAxis::Both && camera.width != camera.height)
         std::fprintf(stderr,
                      "raycast: note: the image is %dx%d and the camera's %s spans both its width and its height, so "
                      "pixels are stretched as the course's handout defines them; --fov vertical gives square pixels\n",
                      camera.width, camera.height,
                      camera.projection == Camera::Projection::Perspective ? "angle" : "size");
-    if (!options.quiet && scene.lights.empty() && scene.ambient == Vec3f{0, 0, 0} &&
-        options.render.mode == RenderMode::Shaded)
+    const RenderMode mode = options.render.mode;
+    if (scene.lights.empty() && scene.ambient == Vec3f{0, 0, 0} && mode == RenderMode::Shaded)
         std::fprintf(stderr, "%s: warning: the scene has no lights and no ambient light: every object will be black\n",
-                     scene_file.c_str());
+                     loaded.file.c_str());
+    return loaded;
+}
+
+int run_render(const CliOptions& options) {
+    const int threads = options.threads > 0 ? options.threads : hardware_threads();
+    for (const std::string& path : {options.output_path, options.depth_path, options.normals_path})
+        check_output_path(path, {options.scene_path}, "the scene file");
+    const LoadedScene loaded = load_and_build(options, threads);
+    const Scene& scene = loaded.scene;
 
     RenderOptions render = options.render;
     render.threads = threads;
@@ -168,37 +182,35 @@ int run_render(const CliOptions& options) {
     ProgressBar progress(!options.quiet);
     render.progress = [&progress](double fraction) { progress.update(fraction); };
 
-    struct Output {
-        const std::string& path;
-        RenderMode mode;
-    };
-    RenderStats total;
-    double render_ms = 0;
-    for (const Output& output : {Output{options.output_path, render.mode}, Output{options.depth_path, RenderMode::Depth},
-                                 Output{options.normals_path, RenderMode::Normals}}) {
-        if (output.path.empty()) continue;
-        RenderOptions pass = render;
-        pass.mode = output.mode;
-        RenderStats stats;
-        const ImageRgb8 bytes = render_image_rgb8(scene, pass, &stats);
-        if (render.has_crop && image_format_for_path(output.path) == ImageFormat::Ppm) {
+    // One pass traces the camera rays once for every image asked for.
+    FrameRequest request;
+    request.color = !options.output_path.empty();
+    request.depth = !options.depth_path.empty();
+    request.normals = !options.normals_path.empty();
+    RenderStats stats;
+    const FrameImages images = render_frame_rgb8(scene, render, request, &stats);
+    for (const auto& [path, image] : {std::pair<const std::string&, const ImageRgb8&>{options.output_path, images.color},
+                                      {options.depth_path, images.depth},
+                                      {options.normals_path, images.normals}}) {
+        if (path.empty()) continue;
+        if (render.has_crop && image_format_for_path(path) == ImageFormat::Ppm) {
             const CropWindow& c = render.crop;
-            write_crop_piece(output.path, bytes,
-                             CropPlacement{c.x0, c.y0, c.x1, c.y1, scene.camera.width, scene.camera.height});
+            write_crop_piece(path, image, CropPlacement{c.x0, c.y0, c.x1, c.y1, scene.camera.width, scene.camera.height});
         } else {
-            write_image(output.path, bytes);
+            write_image(path, image);
         }
-        if (total.rays == 0) total = stats;  // --stats describes the first image written
-        render_ms += stats.milliseconds;
     }
     if (options.stats) {
-        const double mrays = total.milliseconds > 0 ? static_cast<double>(total.rays) / (total.milliseconds * 1000) : 0;
+        const double mrays = stats.milliseconds > 0 ? static_cast<double>(stats.rays) / (stats.milliseconds * 1000) : 0;
         std::printf("raycast-stats load_ms=%.3f build_ms=%.3f render_ms=%.3f rays=%llu mrays_per_s=%.3f "
-                    "triangles=%zu threads=%d hit_fraction=%.4f traversal=%s\n",
-                    load_ms, build_ms, render_ms, static_cast<unsigned long long>(total.rays), mrays,
-                    scene.triangle_count(), threads,
-                    total.rays ? static_cast<double>(total.hits) / static_cast<double>(total.rays) : 0.0,
-                    total.traversal.c_str());
+                    "triangles=%zu threads=%d hit_fraction=%.4f traversal=%s primary_rays=%llu shadow_rays=%llu "
+                    "secondary_rays=%llu\n",
+                    loaded.load_ms, loaded.build_ms, stats.milliseconds, static_cast<unsigned long long>(stats.rays),
+                    mrays, scene.triangle_count(), threads,
+                    stats.primary_rays ? static_cast<double>(stats.hits) / static_cast<double>(stats.primary_rays) : 0.0,
+                    stats.traversal.c_str(), static_cast<unsigned long long>(stats.primary_rays),
+                    static_cast<unsigned long long>(stats.shadow_rays),
+                    static_cast<unsigned long long>(stats.secondary_rays));
     }
     return 0;
 }

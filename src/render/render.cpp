@@ -8,70 +8,97 @@
 
 #include "base/parallel.h"
 #include "base/timer.h"
-#include "render/shade.h"
+#include "render/integrator.h"
+#include "render/sampler.h"
 #include "scene/intersect_packet.h"
 
 namespace raycast {
 
 namespace {
 
-// A small, well-mixed hash (the "lowbias32" of Chris Wellons' hash prospector): random numbers
-// seeded by pixel and sample, so an image never depends on which thread rendered what.
-uint32_t hash32(uint32_t x) {
-    x ^= x >> 16;
-    x *= 0x7feb352dU;
-    x ^= x >> 15;
-    x *= 0x846ca68bU;
-    x ^= x >> 16;
-    return x;
+// Pixel (x, y) of the camera's full frame, y = 0 at the bottom, is pixel number y·width + x: the
+// seed of its samples, so a pixel is the same whatever tile, thread or crop renders it.
+uint32_t pixel_index(const Camera& camera, int x, int y) {
+    return static_cast<uint32_t>(y) * static_cast<uint32_t>(camera.width) + static_cast<uint32_t>(x);
 }
 
-float unit_float(uint32_t bits) { return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f); }
-
-// Where sample `s` of `spp` falls inside the pixel, in [0, 1)²: one jittered point per cell of
-// an n×n grid when spp = n², else per cell of a 1×spp row. spp = 1 is the pixel's own point.
-Vec2f sample_offset(uint32_t pixel_index, int s, int spp) {
-    if (spp == 1) return {0.5f, 0.5f};
-    int columns = static_cast<int>(std::lround(std::sqrt(static_cast<double>(spp))));
-    if (columns * columns != spp) columns = spp;
-    const int rows = spp / columns;
-    const uint32_t seed = hash32(pixel_index * 0x9e3779b9U + static_cast<uint32_t>(s));
-    const float jitter_x = unit_float(hash32(seed ^ 0x68bc21ebU));
-    const float jitter_y = unit_float(hash32(seed ^ 0x02e5be93U));
-    return {(static_cast<float>(s % columns) + jitter_x) / static_cast<float>(columns),
-            (static_cast<float>(s / columns) + jitter_y) / static_cast<float>(rows)};
+// The camera ray of sample `s` of pixel (x, y) of the full frame.
+Ray camera_sample_ray(const Camera& camera, int x, int y, int s, int spp) {
+    if (spp == 1 && camera.lens_radius <= 0)
+        return camera_ray(camera, static_cast<float>(x) + camera.pixel_offset, static_cast<float>(y) + camera.pixel_offset);
+    const uint32_t index = pixel_index(camera, x, y);
+    const Vec2f offset = pixel_sample_offset(index, s, spp);
+    // The pixel's own point is (x + pixel_offset, y + pixel_offset); samples spread ±½ around it.
+    const float px = static_cast<float>(x) + camera.pixel_offset + (offset.x - 0.5f);
+    const float py = static_cast<float>(y) + camera.pixel_offset + (offset.y - 0.5f);
+    const Vec2f lens = lens_sample(index, s);
+    return camera_ray(camera, px, py, lens.x, lens.y);
 }
 
-Vec3f material_color(uint32_t material) {
-    // Golden-ratio hues: neighbouring indices get clearly different colours.
-    const float hue = std::fmod(0.13f + 0.618034f * static_cast<float>(material), 1.0f) * 6;
-    const float f = hue - std::floor(hue);
-    const int sector = static_cast<int>(hue) % 6;
-    const float v = 0.9f, p = 0.25f, q = v - (v - p) * f, t = p + (v - p) * f;
-    switch (sector) {
-        case 0: return {v, t, p};
-        case 1: return {q, v, p};
-        case 2: return {p, v, t};
-        case 3: return {p, q, v};
-        case 4: return {t, p, v};
-        default: return {v, p, q};
+// The colour that camera sample `s` of a pixel brings back, given its ray and closest hit: a
+// fresh trace context (depth 0, weight 1, vacuum, this sample's random numbers and ray budget)
+// handed to the mode's radiance function. With `tree`, every ray is recorded in it.
+Vec3f shade_camera_sample(const Integrator& integrator, uint32_t index, int s, const Ray& ray, const Hit& hit,
+                          uint64_t nodes_visited, RayCounts& counts, RayTree* tree) {
+    Sampler sampler(index, s);
+    uint32_t budget = kMaxRaysPerSample;
+    TraceContext context;
+    context.sampler = &sampler;
+    context.counts = &counts;
+    context.rays_left = &budget;
+    context.nodes_visited = nodes_visited;
+    context.tree = tree;
+    if (tree) {
+        RayRecord record;
+        record.origin = ray.origin;
+        record.direction = ray.direction;
+        record.t_min = integrator.scene.camera.t_min;
+        record.t_max = INFINITY;
+        context.record = tree->add(std::move(record));
+    }
+    return integrator.radiance(integrator, ray, hit, context);
+}
+
+// Depth images: clamp((far − t)/(far − near)) as grey, near white, misses black. The range is the
+// options' or, when both are 0, that of the visible hits.
+void depth_to_grey(const std::vector<float>& depths, const RenderOptions& options, Image& image) {
+    float near = options.depth_near, far = options.depth_far;
+    if (near == 0 && far == 0) {
+        near = INFINITY;
+        far = -INFINITY;
+        for (float t : depths)
+            if (std::isfinite(t)) {
+                near = std::min(near, t);
+                far = std::max(far, t);
+            }
+    }
+    for (size_t i = 0; i < depths.size(); ++i) {
+        const float t = depths[i];
+        if (!std::isfinite(t)) continue;
+        const float grey = far > near ? std::clamp((far - t) / (far - near), 0.0f, 1.0f) : 1.0f;
+        image.pixels[i] = {grey, grey, grey};
     }
 }
 
-// Nodes visited on a fixed logarithmic scale (1 → dark blue, 4096 → white), so that crops of
-// one image share a scale and merge exactly.
-Vec3f cost_color(uint64_t nodes) {
-    const float x = std::clamp(std::log2(static_cast<float>(nodes) + 1) / 12.0f, 0.0f, 1.0f);
-    if (x < 0.25f) return {0, 0, 0.2f + 3.2f * x};
-    if (x < 0.5f) return {4 * (x - 0.25f), 0, 1 - 4 * (x - 0.25f)};
-    if (x < 0.75f) return {1, 4 * (x - 0.5f), 0};
-    return {1, 1, 4 * (x - 0.75f)};
-}
-
+// The part of the camera's frame being rendered.
 struct Frame {
-    int width, height;   // of the output image
+    int width, height;   // of the output images
     int x_offset;        // output pixel (i, j) is camera pixel (i + x_offset, j + y_offset)
     int y_offset;
+};
+
+Frame frame_of(const Camera& camera, const RenderOptions& options) {
+    if (!options.has_crop) return {camera.width, camera.height, 0, 0};
+    const CropWindow& c = options.crop;
+    return {c.x1 - c.x0, c.y1 - c.y0, c.x0, camera.height - c.y1};
+}
+
+// Where a pass writes: colour as floats or bytes, normals as bytes, depths as distances.
+struct Targets {
+    Image* color_floats = nullptr;
+    ImageRgb8* color_bytes = nullptr;
+    ImageRgb8* normal_bytes = nullptr;
+    std::vector<float>* depths = nullptr;  // t of each pixel's last sample that hit; infinity: none
 };
 
 class Renderer {
@@ -79,54 +106,50 @@ public:
     Renderer(const Scene& scene, const RenderOptions& options)
         : scene_(scene),
           options_(options),
+          integrator_{scene, options, radiance_function_for(options.mode)},
+          normals_{scene, options, radiance_function_for(RenderMode::Normals)},
           // Packets hold one ray per pixel; samples and lenses scatter rays, and the cost mode
           // counts nodes per ray, so those trace ray by ray.
           tracer_(scene, options.samples_per_pixel == 1 && scene.camera.lens_radius <= 0 &&
                                  options.mode != RenderMode::Cost
                              ? options.packet_isa
-                             : PacketIsa::None) {
-        const Camera& camera = scene.camera;
-        frame_ = {camera.width, camera.height, 0, 0};
-        if (options.has_crop) {
-            const CropWindow& c = options.crop;
-            frame_ = {c.x1 - c.x0, c.y1 - c.y0, c.x0, camera.height - c.y1};
-        }
-        spp_ = std::max(1, options.samples_per_pixel);
-        packet_width_ = tracer_.lanes();
-    }
+                             : PacketIsa::None),
+          frame_(frame_of(scene.camera, options)),
+          spp_(std::max(1, options.samples_per_pixel)),
+          packet_width_(tracer_.lanes()) {}
 
     int width() const { return frame_.width; }
     int height() const { return frame_.height; }
 
-    // Renders into exactly one of the two images, which has the frame's size. `timer` started
-    // before the image was allocated: the render time includes it.
-    void render(Image* floats, ImageRgb8* bytes, const Timer& timer, RenderStats* stats) {
-        floats_ = floats;
-        bytes_ = bytes;
-        const size_t pixel_count = static_cast<size_t>(frame_.width) * static_cast<size_t>(frame_.height);
-        if (options_.mode == RenderMode::Depth) depth_.assign(pixel_count, INFINITY);
+    // Renders into the targets, which have the frame's size. `timer` started before the images
+    // were allocated: the render time includes them.
+    void render(const Targets& targets, const Timer& timer, RenderStats* stats) {
+        targets_ = targets;
         const int tile = std::max(1, options_.tile_size);
         const int tiles_x = (frame_.width + tile - 1) / tile, tiles_y = (frame_.height + tile - 1) / tile;
         const size_t tile_count = static_cast<size_t>(tiles_x) * static_cast<size_t>(tiles_y);
         const int threads = std::max(1, options_.threads);
-        std::vector<WorkerTotals> totals(static_cast<size_t>(threads));
+        std::vector<WorkerState> workers(static_cast<size_t>(threads));
         std::atomic<size_t> tiles_done{0};
         parallel_for(tile_count, threads, [&](size_t index, int worker) {
             const int tx = static_cast<int>(index % static_cast<size_t>(tiles_x));
             const int ty = static_cast<int>(index / static_cast<size_t>(tiles_x));
             render_tile(tx * tile, ty * tile, std::min(frame_.width, (tx + 1) * tile),
-                        std::min(frame_.height, (ty + 1) * tile), totals[static_cast<size_t>(worker)]);
+                        std::min(frame_.height, (ty + 1) * tile), workers[static_cast<size_t>(worker)]);
             const size_t done = ++tiles_done;
             if (options_.progress) options_.progress(static_cast<double>(done) / static_cast<double>(tile_count));
         });
-        if (options_.mode == RenderMode::Depth) finish_depth(*floats_);
         if (stats) {
+            RayCounts counts;
+            for (const WorkerState& w : workers) counts += w.counts;
             *stats = RenderStats{};
-            for (const WorkerTotals& t : totals) {
-                stats->rays += t.rays;
-                stats->hits += t.hits;
-                stats->nodes_visited += t.nodes_visited;
-            }
+            stats->rays = counts.total();
+            stats->primary_rays = counts.primary;
+            stats->shadow_rays = counts.shadow;
+            stats->secondary_rays = counts.secondary;
+            stats->hits = counts.primary_hits;
+            stats->nodes_visited = counts.nodes_visited;
+            stats->truncated_samples = counts.truncated;
             stats->milliseconds = timer.elapsed_ms();
             stats->threads = threads;
             stats->traversal = tracer_.isa() == PacketIsa::None ? std::string("single-ray")
@@ -137,91 +160,101 @@ public:
 private:
     // One per thread, each on its own cache lines: a thread updates its counters for every
     // pixel, and sharing a line with another thread's would make the two cores fight over it.
-    struct alignas(64) WorkerTotals {
-        uint64_t rays = 0, hits = 0, nodes_visited = 0;
-        // The tile's finished pixels, row by row, copied to the image at the end: neighbouring
+    struct alignas(64) WorkerState {
+        RayCounts counts;
+        // The tile's finished pixels, row by row, copied to the images at the end: neighbouring
         // tiles, rendered by different threads at once, share cache lines of the image (a row of
         // 16 pixels is 48 bytes), which pixel-by-pixel writes would bounce between cores.
-        std::vector<Vec3f> tile_pixels;
+        std::vector<Vec3f> tile_colors, tile_normals;
     };
 
-    void render_tile(int x_begin, int y_begin, int x_end, int y_end, WorkerTotals& totals) {
+    void render_tile(int x_begin, int y_begin, int x_end, int y_end, WorkerState& worker) {
         const int tile_width = x_end - x_begin;
-        totals.tile_pixels.resize(static_cast<size_t>(tile_width) * static_cast<size_t>(y_end - y_begin));
+        const size_t tile_pixels = static_cast<size_t>(tile_width) * static_cast<size_t>(y_end - y_begin);
+        worker.tile_colors.resize(tile_pixels);
+        if (targets_.normal_bytes) worker.tile_normals.resize(tile_pixels);
         // Blocks of pixels small enough to form one packet of coherent rays.
         const int block_w = packet_width_ >= 16 ? 4 : (packet_width_ >= 4 ? 2 : 1);
         const int block_h = packet_width_ / block_w > 0 ? packet_width_ / block_w : 1;
+        const Camera& camera = scene_.camera;
         Ray rays[kMaxPacketLanes];
         Hit hits[kMaxPacketLanes];
         uint64_t nodes[kMaxPacketLanes];
-        int pixel_x[kMaxPacketLanes], pixel_y[kMaxPacketLanes];
-        Vec3f sums[kMaxPacketLanes];
+        int camera_x[kMaxPacketLanes], camera_y[kMaxPacketLanes];
+        size_t slot[kMaxPacketLanes];  // the pixel's place in the tile
+        Vec3f colors[kMaxPacketLanes], normals[kMaxPacketLanes];
         for (int by = y_begin; by < y_end; by += block_h)
             for (int bx = x_begin; bx < x_end; bx += block_w) {
                 int count = 0;
                 for (int y = by; y < std::min(by + block_h, y_end); ++y)
                     for (int x = bx; x < std::min(bx + block_w, x_end); ++x) {
-                        pixel_x[count] = x;
-                        pixel_y[count] = y;
+                        camera_x[count] = x + frame_.x_offset;
+                        camera_y[count] = y + frame_.y_offset;
+                        slot[count] = static_cast<size_t>(y - y_begin) * static_cast<size_t>(tile_width) +
+                                      static_cast<size_t>(x - x_begin);
                         ++count;
                     }
                 for (int s = 0; s < spp_; ++s) {
                     for (int k = 0; k < count; ++k) {
-                        rays[k] = primary_ray(pixel_x[k], pixel_y[k], s);
+                        rays[k] = camera_sample_ray(camera, camera_x[k], camera_y[k], s, spp_);
                         hits[k] = Hit{};
                         nodes[k] = 0;
                     }
-                    trace(rays, hits, nodes, count);
+                    trace_camera_rays(rays, hits, nodes, count);
                     for (int k = 0; k < count; ++k) {
-                        totals.rays += 1;
-                        totals.hits += hits[k].is_hit() ? 1 : 0;
-                        totals.nodes_visited += nodes[k];
-                        const Vec3f color = pixel_value(rays[k], hits[k], nodes[k], pixel_x[k], pixel_y[k]);
-                        sums[k] = s == 0 ? color : sums[k] + color;
+                        RayCounts& counts = worker.counts;
+                        counts.primary += 1;
+                        counts.primary_hits += hits[k].is_hit() ? 1 : 0;
+                        counts.nodes_visited += nodes[k];
+                        const uint32_t index = pixel_index(camera, camera_x[k], camera_y[k]);
+                        const Vec3f color =
+                            shade_camera_sample(integrator_, index, s, rays[k], hits[k], nodes[k], counts, nullptr);
+                        colors[k] = s == 0 ? color : colors[k] + color;
+                        if (targets_.normal_bytes) {
+                            const Vec3f normal =
+                                shade_camera_sample(normals_, index, s, rays[k], hits[k], nodes[k], counts, nullptr);
+                            normals[k] = s == 0 ? normal : normals[k] + normal;
+                        }
+                        if (targets_.depths && hits[k].is_hit()) {
+                            const size_t pixel = static_cast<size_t>(camera_y[k] - frame_.y_offset) *
+                                                     static_cast<size_t>(frame_.width) +
+                                                 static_cast<size_t>(camera_x[k] - frame_.x_offset);
+                            (*targets_.depths)[pixel] = hits[k].t;
+                        }
                     }
                 }
-                for (int k = 0; k < count; ++k)
-                    totals.tile_pixels[static_cast<size_t>(pixel_y[k] - y_begin) * static_cast<size_t>(tile_width) +
-                                       static_cast<size_t>(pixel_x[k] - x_begin)] =
-                        spp_ > 1 ? sums[k] / static_cast<float>(spp_) : sums[k];
+                for (int k = 0; k < count; ++k) {
+                    worker.tile_colors[slot[k]] = spp_ > 1 ? colors[k] / static_cast<float>(spp_) : colors[k];
+                    if (targets_.normal_bytes)
+                        worker.tile_normals[slot[k]] = spp_ > 1 ? normals[k] / static_cast<float>(spp_) : normals[k];
+                }
             }
-        store_tile(x_begin, y_begin, x_end, y_end, totals.tile_pixels.data());
+        store_tile(x_begin, y_begin, x_end, y_end, worker.tile_colors.data(), targets_.color_floats,
+                   targets_.color_bytes);
+        if (targets_.normal_bytes)
+            store_tile(x_begin, y_begin, x_end, y_end, worker.tile_normals.data(), nullptr, targets_.normal_bytes);
     }
 
-    void store_tile(int x_begin, int y_begin, int x_end, int y_end, const Vec3f* colors) {
+    static void store_tile(int x_begin, int y_begin, int x_end, int y_end, const Vec3f* colors, Image* floats,
+                           ImageRgb8* bytes) {
         for (int y = y_begin; y < y_end; ++y) {
-            if (floats_) {
-                std::copy(colors, colors + (x_end - x_begin), &floats_->at(x_begin, y));
+            if (floats) {
+                std::copy(colors, colors + (x_end - x_begin), &floats->at(x_begin, y));
                 colors += x_end - x_begin;
                 continue;
             }
-            uint8_t* byte = bytes_->at(x_begin, y);
+            if (!bytes) return;
+            uint8_t* byte = bytes->at(x_begin, y);
             for (int x = x_begin; x < x_end; ++x, ++colors, byte += 3) to_bytes(*colors, byte);
         }
     }
 
-    Ray primary_ray(int x, int y, int s) const {
-        const Camera& camera = scene_.camera;
-        const int cam_x = x + frame_.x_offset, cam_y = y + frame_.y_offset;
-        const uint32_t pixel_index = static_cast<uint32_t>(cam_y) * static_cast<uint32_t>(camera.width) +
-                                     static_cast<uint32_t>(cam_x);
-        const Vec2f offset = sample_offset(pixel_index, s, spp_);
-        // The pixel's own point is (x + pixel_offset, y + pixel_offset); samples spread ±½ around it.
-        const float px = static_cast<float>(cam_x) + camera.pixel_offset + (offset.x - 0.5f);
-        const float py = static_cast<float>(cam_y) + camera.pixel_offset + (offset.y - 0.5f);
-        if (spp_ == 1 && camera.lens_radius <= 0)
-            return camera_ray(camera, static_cast<float>(cam_x) + camera.pixel_offset,
-                              static_cast<float>(cam_y) + camera.pixel_offset);
-        const uint32_t lens_seed = hash32(pixel_index ^ hash32(static_cast<uint32_t>(s) + 0x5bd1e995U));
-        return camera_ray(camera, px, py, unit_float(hash32(lens_seed)), unit_float(hash32(lens_seed + 1)));
-    }
-
-    void trace(const Ray* rays, Hit* hits, uint64_t* nodes, int count) const {
-        const bool count_nodes = options_.mode == RenderMode::Cost;
+    void trace_camera_rays(const Ray* rays, Hit* hits, uint64_t* nodes, int count) const {
         if (packet_width_ > 1) {
             tracer_.intersect(rays, count, scene_.camera.t_min, hits);
             return;
         }
+        const bool count_nodes = options_.mode == RenderMode::Cost;
         for (int k = 0; k < count; ++k) {
             TraceCounters counters;
             intersect(scene_, rays[k], scene_.camera.t_min, hits[k], count_nodes ? &counters : nullptr);
@@ -229,52 +262,15 @@ private:
         }
     }
 
-    Vec3f pixel_value(const Ray& ray, const Hit& hit, uint64_t nodes, int x, int y) {
-        switch (options_.mode) {
-            case RenderMode::Shaded:
-                return hit.is_hit() ? shade(scene_, ray, hit, options_.shadows) : scene_.background;
-            case RenderMode::Normals:
-                return hit.is_hit() ? abs(surface_at(scene_, ray, hit).normal) : Vec3f{};
-            case RenderMode::Depth:
-                // The grey level needs the depth range, known only when every pixel is traced.
-                if (hit.is_hit()) depth_[static_cast<size_t>(y) * static_cast<size_t>(frame_.width) + static_cast<size_t>(x)] = hit.t;
-                return {};
-            case RenderMode::Material:
-                return hit.is_hit() ? material_color(surface_at(scene_, ray, hit).material) : Vec3f{};
-            case RenderMode::Cost:
-                return cost_color(nodes);
-        }
-        return {};
-    }
-
-    void finish_depth(Image& image) const {
-        float near = options_.depth_near, far = options_.depth_far;
-        if (near == 0 && far == 0) {
-            near = INFINITY;
-            far = -INFINITY;
-            for (float t : depth_)
-                if (std::isfinite(t)) {
-                    near = std::min(near, t);
-                    far = std::max(far, t);
-                }
-        }
-        for (size_t i = 0; i < depth_.size(); ++i) {
-            const float t = depth_[i];
-            if (!std::isfinite(t)) continue;
-            const float grey = far > near ? std::clamp((far - t) / (far - near), 0.0f, 1.0f) : 1.0f;
-            image.pixels[i] = {grey, grey, grey};
-        }
-    }
-
     const Scene& scene_;
     const RenderOptions& options_;
+    const Integrator integrator_;
+    const Integrator normals_;  // the normals image made in the same pass
     PacketTracer tracer_;
     Frame frame_;
     int spp_ = 1;
     int packet_width_ = 1;
-    std::vector<float> depth_;
-    Image* floats_ = nullptr;
-    ImageRgb8* bytes_ = nullptr;
+    Targets targets_;
 };
 
 }  // namespace
@@ -283,18 +279,89 @@ Image render_image(const Scene& scene, const RenderOptions& options, RenderStats
     const Timer timer;
     Renderer renderer(scene, options);
     Image image(renderer.width(), renderer.height());
-    renderer.render(&image, nullptr, timer, stats);
+    if (options.mode != RenderMode::Depth) {
+        renderer.render(Targets{&image, nullptr, nullptr, nullptr}, timer, stats);
+        return image;
+    }
+    // The grey levels need every pixel's distance first.
+    std::vector<float> depths(static_cast<size_t>(image.width) * static_cast<size_t>(image.height), INFINITY);
+    renderer.render(Targets{&image, nullptr, nullptr, &depths}, timer, stats);
+    depth_to_grey(depths, options, image);
     return image;
 }
 
 ImageRgb8 render_image_rgb8(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
-    // Depth's grey levels need every pixel's distance first: that goes through the float image.
-    if (options.mode == RenderMode::Depth) return quantize(render_image(scene, options, stats));
+    return std::move(render_frame_rgb8(scene, options, FrameRequest{}, stats).color);
+}
+
+FrameImages render_frame_rgb8(const Scene& scene, const RenderOptions& options, const FrameRequest& request,
+                              RenderStats* stats) {
     const Timer timer;
     Renderer renderer(scene, options);
-    ImageRgb8 image(renderer.width(), renderer.height());
-    renderer.render(nullptr, &image, timer, stats);
-    return image;
+    const int width = renderer.width(), height = renderer.height();
+    FrameImages images;
+    const bool depth_mode = options.mode == RenderMode::Depth;
+    // Depth's grey levels need every pixel's distance first: its colour goes through floats.
+    Image depth_floats;
+    std::vector<float> depths;
+    if (request.depth || (request.color && depth_mode)) {
+        depth_floats = Image(width, height);
+        depths.assign(static_cast<size_t>(width) * static_cast<size_t>(height), INFINITY);
+    }
+    if (request.color && !depth_mode) images.color = ImageRgb8(width, height);
+    if (request.normals) images.normals = ImageRgb8(width, height);
+    Targets targets;
+    targets.color_bytes = images.color.rgb.empty() ? nullptr : &images.color;
+    targets.normal_bytes = request.normals ? &images.normals : nullptr;
+    targets.depths = depths.empty() ? nullptr : &depths;
+    renderer.render(targets, timer, stats);
+    if (!depths.empty()) {
+        depth_to_grey(depths, options, depth_floats);
+        if (request.color && depth_mode) images.color = quantize(depth_floats);
+        if (request.depth) images.depth = quantize(depth_floats);
+    }
+    return images;
+}
+
+PixelExplanation explain_pixel(const Scene& scene, const RenderOptions& options, int x, int y) {
+    const Camera& camera = scene.camera;
+    PixelExplanation explanation;
+    explanation.mode = render_mode_name(options.mode);
+    explanation.x = x;
+    explanation.y = y;
+    explanation.width = camera.width;
+    explanation.height = camera.height;
+    explanation.samples_per_pixel = std::max(1, options.samples_per_pixel);
+    explanation.shadows = options.shadows;
+    const int camera_y = camera.height - 1 - y;  // the camera counts rows from the bottom
+    const uint32_t index = pixel_index(camera, x, camera_y);
+    const Integrator integrator{scene, options, radiance_function_for(options.mode)};
+    const int spp = explanation.samples_per_pixel;
+    Vec3f sum;
+    for (int s = 0; s < spp; ++s) {
+        const Ray ray = camera_sample_ray(camera, x, camera_y, s, spp);
+        Hit hit;
+        TraceCounters counters;
+        intersect(scene, ray, camera.t_min, hit, options.mode == RenderMode::Cost ? &counters : nullptr);
+        RayCounts counts;
+        RayTree tree;
+        const Vec3f color = shade_camera_sample(integrator, index, s, ray, hit, counters.nodes_visited, counts, &tree);
+        sum = s == 0 ? color : sum + color;
+        explanation.sample_offsets.push_back(spp == 1 && camera.lens_radius <= 0 ? Vec2f{0.5f, 0.5f}
+                                                                                  : pixel_sample_offset(index, s, spp));
+        explanation.samples.push_back(std::move(tree));
+    }
+    explanation.color = spp > 1 ? sum / static_cast<float>(spp) : sum;
+    if (options.mode == RenderMode::Depth) {
+        // The grey level depends on the range: the options', or that of the whole image's hits.
+        RenderOptions whole = options;
+        whole.has_crop = false;
+        whole.progress = nullptr;
+        const Image image = render_image(scene, whole, nullptr);
+        explanation.color = image.at(x, camera_y);
+    }
+    to_bytes(explanation.color, explanation.rgb8);
+    return explanation;
 }
 
 }  // namespace raycast

@@ -1,52 +1,28 @@
 // The render loop: the image is cut into tiles that threads claim one at a time; each pixel's
-// primary rays are traced and shaded. The result does not depend on the thread count.
+// camera rays are made and traced (in SIMD packets where they are coherent), and each ray's hit
+// goes to the radiance function of the render mode (render/integrator.h). One pass gives the
+// colour and, when asked, the depth and normals images of the same rays. The result does not
+// depend on the thread count, the tile size or the crop.
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <string>
 
 #include "image/image.h"
-#include "scene/intersect_packet.h"
+#include "render/ray_tree.h"
+#include "render/render_options.h"
 #include "scene/scene.h"
 
 namespace raycast {
 
-/// What each pixel shows.
-enum class RenderMode {
-    Shaded,    ///< the lit image
-    Normals,   ///< |n| per channel of the unit world normal; background black (MIT 6.837's normals image)
-    Depth,     ///< clamp((far − t)/(far − near)) as grey; background black (MIT 6.837's depth image)
-    Material,  ///< a distinct flat colour per material
-    Cost,      ///< BVH nodes visited, as a heat map
-};
-
-/// A window of the image in pixel coordinates with y = 0 at the top (as image viewers number
-/// rows): columns [x0, x1), rows [y0, y1).
-struct CropWindow {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-};
-
-struct RenderOptions {
-    int threads = 1;
-    int tile_size = 16;
-    RenderMode mode = RenderMode::Shaded;
-    int samples_per_pixel = 1;  ///< stratified over an n×n grid when n² = spp, else a jittered row
-    bool shadows = false;
-    float depth_near = 0, depth_far = 0;  ///< Depth mode; both 0: the range of the visible hits
-    /// How primary rays are traced: SIMD packets of an instruction set, or None for one ray at a
-    /// time. The image is the same either way. Default: the best this CPU runs.
-    PacketIsa packet_isa = best_packet_isa();
-    bool has_crop = false;
-    CropWindow crop;      ///< render only this window (the image has the window's size)
-    /// Called now and then from the rendering threads with the fraction done (0..1).
-    std::function<void(double)> progress;
-};
-
 struct RenderStats {
-    uint64_t rays = 0;            ///< primary rays
-    uint64_t hits = 0;            ///< primary rays that hit something
-    uint64_t nodes_visited = 0;   ///< BVH nodes (leaves) visited
+    uint64_t rays = 0;            ///< every ray traced: camera, shadow, reflected and transmitted
+    uint64_t primary_rays = 0;    ///< camera rays
+    uint64_t shadow_rays = 0;
+    uint64_t secondary_rays = 0;  ///< reflected and transmitted
+    uint64_t hits = 0;            ///< camera rays that hit something
+    uint64_t nodes_visited = 0;   ///< BVH nodes (leaves) visited by camera rays (cost mode)
+    uint64_t truncated_samples = 0;  ///< camera samples whose ray tree reached kMaxRaysPerSample
     double milliseconds = 0;
     int threads = 1;
     std::string traversal;        ///< which path traced the primary rays, e.g. "packet-avx512"
@@ -58,5 +34,26 @@ Image render_image(const Scene& scene, const RenderOptions& options, RenderStats
 /// The same image as quantize(render_image(...)), byte for byte, written straight to 8 bits: a
 /// quarter of the memory, and no second pass over the pixels.
 ImageRgb8 render_image_rgb8(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+
+/// Which images one pass makes.
+struct FrameRequest {
+    bool color = true;     ///< the image of the render mode
+    bool depth = false;    ///< MIT's depth image (grey, near white; range from the options)
+    bool normals = false;  ///< MIT's normals image (|n| per channel)
+};
+
+/// The images of one pass, each empty unless requested; each equals the render of its own mode
+/// (render_image_rgb8 with mode Depth or Normals) byte for byte.
+struct FrameImages {
+    ImageRgb8 color, depth, normals;
+};
+
+/// One pass over the camera rays that makes every requested image.
+FrameImages render_frame_rgb8(const Scene& scene, const RenderOptions& options, const FrameRequest& request,
+                              RenderStats* stats = nullptr);
+
+/// Re-traces pixel (x, y) of the full frame (row 0 at the top, as --crop counts) alone and records
+/// every ray: its colour and bytes are exactly those of the rendered image.
+PixelExplanation explain_pixel(const Scene& scene, const RenderOptions& options, int x, int y);
 
 }  // namespace raycast

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "render/integrator.h"
 #include "render/shade.h"
 #include "scene/build_scene.h"
 #include "sceneio/load_scene.h"
@@ -222,7 +223,9 @@ Image brute_force(const Scene& scene, bool shadows) {
             const Ray ray = camera_ray(cam, static_cast<float>(x) + cam.pixel_offset, static_cast<float>(y) + cam.pixel_offset);
             Hit hit;
             intersect(scene, ray, cam.t_min, hit);
-            image.at(x, y) = hit.is_hit() ? shade(scene, ray, hit, shadows) : scene.background;
+            RenderOptions options;
+            options.shadows = shadows;
+            image.at(x, y) = radiance_along(scene, options, ray, hit);
         }
     return image;
 }
@@ -309,7 +312,10 @@ TEST(RenderTest, ThreadsAndTileSizesDoNotChangeTheImage) {
                         << "threads " << threads << " tile " << tile << " spp " << spp;
                     EXPECT_EQ(stats.threads, threads);
                     EXPECT_EQ(stats.rays, reference_stats.rays);
-                    EXPECT_EQ(stats.rays, static_cast<uint64_t>(37 * 29 * spp));
+                    EXPECT_EQ(stats.primary_rays, static_cast<uint64_t>(37 * 29 * spp));
+                    // rays counts every ray: one shadow ray per light from every hit, here.
+                    EXPECT_EQ(stats.shadow_rays, scene.lights.size() * stats.hits);
+                    EXPECT_EQ(stats.rays, stats.primary_rays + stats.shadow_rays);
                     EXPECT_EQ(stats.hits, reference_stats.hits);
                 }
         }
@@ -378,6 +384,49 @@ TEST(RenderTest, EightBitRenderIsTheQuantizedFloatRenderByteForByte) {
                         EXPECT_EQ(byte_stats.hits, float_stats.hits) << where;
                         EXPECT_GT(byte_stats.hits, 0u) << where;
                     }
+}
+
+TEST(RenderTest, OnePassMakesTheColourDepthAndNormalsImagesOfItsOwnModes) {
+    // -depth FILE -normals FILE: the camera rays are traced once, and each image equals the render
+    // of its own mode byte for byte.
+    const Scene scenes[2] = {transformed_scene(), mesh_scene()};
+    for (const Scene& scene : scenes)
+        for (int spp : {1, 4})
+            for (bool crop : {false, true}) {
+                RenderOptions options = options_with(best_packet_isa());
+                options.samples_per_pixel = spp;
+                options.shadows = true;
+                options.threads = 2;
+                options.has_crop = crop;
+                options.crop = {3, 2, scene.camera.width - 4, scene.camera.height - 1};
+                options.depth_near = crop ? 5 : 0;
+                options.depth_far = crop ? 15 : 0;
+                FrameRequest all;
+                all.depth = all.normals = true;
+                RenderStats stats;
+                const FrameImages images = render_frame_rgb8(scene, options, all, &stats);
+                RenderStats color_stats;
+                EXPECT_TRUE(images.color.rgb == render_image_rgb8(scene, options, &color_stats).rgb);
+                RenderOptions depth = options, normals = options;
+                depth.mode = RenderMode::Depth;
+                normals.mode = RenderMode::Normals;
+                EXPECT_TRUE(images.depth.rgb == render_image_rgb8(scene, depth).rgb) << "spp " << spp;
+                EXPECT_TRUE(images.normals.rgb == render_image_rgb8(scene, normals).rgb) << "spp " << spp;
+                // One camera ray per pixel sample, not one per image.
+                EXPECT_EQ(stats.primary_rays, color_stats.primary_rays);
+                EXPECT_EQ(stats.primary_rays, static_cast<uint64_t>(images.color.width) *
+                                                  static_cast<uint64_t>(images.color.height) *
+                                                  static_cast<uint64_t>(spp));
+            }
+    // Only what is asked for is made.
+    const Scene scene = transformed_scene();
+    FrameRequest depth_only;
+    depth_only.color = false;
+    depth_only.depth = true;
+    const FrameImages images = render_frame_rgb8(scene, RenderOptions{}, depth_only);
+    EXPECT_TRUE(images.color.rgb.empty());
+    EXPECT_TRUE(images.normals.rgb.empty());
+    EXPECT_EQ(images.depth.width, scene.camera.width);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -20,7 +20,8 @@ float specular_power(float base, float exponent) {
 
 }  // namespace
 
-Vec3f reflect_light(const Material& material, SpecularModel model, Vec3f normal, Vec3f to_light, Vec3f to_viewer) {
+LightReflection reflect_light_terms(const Material& material, SpecularModel model, Vec3f normal, Vec3f to_light,
+                                    Vec3f to_viewer) {
     const float n_dot_l = dot(normal, to_light);
     const Vec3f diffuse = material.diffuse * positive_part(n_dot_l);
     float specular = 0;
@@ -41,7 +42,7 @@ Vec3f reflect_light(const Material& material, SpecularModel model, Vec3f normal,
             break;
         }
     }
-    return diffuse + material.specular * specular;
+    return {diffuse, material.specular * specular};
 }
 
 namespace {
@@ -63,31 +64,6 @@ Vec3f offset_ray_origin(Vec3f position, Vec3f normal, Vec3f side) {
     const float distance = 64 * ulp(magnitude) + 1e-30f;
     const Vec3f n = dot(normal, side) < 0 ? -normal : normal;
     return position + n * distance;
-}
-
-Vec3f shade(const Scene& scene, const Ray& ray, const Hit& hit, bool shadows) {
-    const SurfacePoint surface = surface_at(scene, ray, hit);
-    const Material& material = scene.materials[surface.material];
-    const Conventions& conventions = scene.conventions;
-    Vec3f normal = surface.normal;
-    const Vec3f to_viewer = normalize(-ray.direction);
-    if (dot(normal, to_viewer) < 0) {
-        if (conventions.shade_back_faces) {
-            normal = -normal;
-        } else if (conventions.black_back_faces) {
-            return {0, 0, 0};
-        }
-    }
-    Vec3f color = scene.ambient * material.diffuse;
-    for (const Light& light : scene.lights) {
-        const Illumination arriving = illuminate(light, surface.position);
-        if (shadows) {
-            const Ray shadow_ray{offset_ray_origin(surface.position, normal, arriving.to_light), arriving.to_light};
-            if (occluded(scene, shadow_ray, 0, arriving.distance)) continue;
-        }
-        color += arriving.color * reflect_light(material, conventions.specular, normal, arriving.to_light, to_viewer);
-    }
-    return color;
 }
 
 }  // namespace raycast

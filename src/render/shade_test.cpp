@@ -12,6 +12,7 @@
 #include <cmath>
 #include <vector>
 
+#include "render/integrator.h"
 #include "scene/build_scene.h"
 #include "scene_builders.h"
 
@@ -129,7 +130,9 @@ Vec3f shade_along(const Scene& scene, Vec3f origin, Vec3f direction, bool shadow
     intersect(scene, ray, 0, hit);
     EXPECT_TRUE(hit.is_hit());
     if (!hit.is_hit()) return {-1, -1, -1};
-    return shade(scene, ray, hit, shadows);
+    RenderOptions options;
+    options.shadows = shadows;
+    return radiance_along(scene, options, ray, hit);
 }
 
 // The unit sphere at the origin seen from (0, 0, 5) straight down −z: the hit is (0, 0, 1), N = V = +z.

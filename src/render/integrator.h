@@ -1,0 +1,85 @@
+// The integrator seam: what colour a ray brings back. The render loop (render.h) makes camera
+// rays, traces them (in SIMD packets where they are coherent) and hands each one, with its closest
+// hit or a miss, to the radiance function chosen once for the render mode. A radiance function may
+// trace more rays (shadow, reflected, transmitted; later, paths) through trace_ray and
+// is_light_visible, and may record what it did in a RayTree for `raycast explain`.
+//
+// Adding an integrator: write a function with the RadianceFunction signature in integrators.cpp,
+// give it a RenderMode, and return it from radiance_function_for(). It may call anything in
+// scene/ (intersect, occluded, surface_at, illuminate) and render/shade.h; it never sees tiles,
+// threads or images.
+#pragma once
+
+#include <cstdint>
+
+#include "math/ray.h"
+#include "render/ray_tree.h"
+#include "render/render_options.h"
+#include "render/sampler.h"
+#include "scene/scene.h"
+
+namespace raycast {
+
+/// Rays traced, by kind: one counter set per thread, summed at the end.
+struct RayCounts {
+    uint64_t primary = 0;       ///< camera rays
+    uint64_t primary_hits = 0;  ///< camera rays that hit something
+    uint64_t shadow = 0;        ///< towards lights
+    uint64_t secondary = 0;     ///< reflected and transmitted
+    uint64_t nodes_visited = 0; ///< BVH nodes visited by camera rays (cost mode only)
+    uint64_t truncated = 0;     ///< camera samples whose ray tree hit kMaxRaysPerSample
+
+    uint64_t total() const { return primary + shadow + secondary; }
+    RayCounts& operator+=(const RayCounts& other);
+};
+
+/// The most shadow and secondary rays one camera sample may trace. A ray tree doubles with every
+/// bounce where a surface both reflects and refracts, so this keeps a deep --bounces finite; the
+/// renderer warns when a sample reaches it.
+constexpr uint32_t kMaxRaysPerSample = 1u << 16;
+
+/// Everything a radiance function knows about the ray it is shading besides the ray itself.
+struct TraceContext {
+    int depth = 0;                    ///< 0 for a camera ray, +1 per reflection or refraction
+    float weight = 1;                 ///< product of the multipliers' magnitudes along the path
+    float index_of_refraction = 1;    ///< of the medium the ray travels through (vacuum outside)
+    Sampler* sampler = nullptr;       ///< this camera sample's random numbers
+    RayCounts* counts = nullptr;      ///< this thread's counters
+    uint32_t* rays_left = nullptr;    ///< the camera sample's budget, shared by its whole ray tree
+    uint64_t nodes_visited = 0;       ///< BVH nodes the camera ray visited (cost mode)
+    RayTree* tree = nullptr;          ///< set by `explain`: every ray is recorded; null when rendering
+    int record = -1;                  ///< this ray's record in `tree`
+};
+
+struct Integrator;
+
+/// The colour that `ray` brings back, given its closest hit (hit.is_hit() false: a miss).
+using RadianceFunction = Vec3f (*)(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context);
+
+/// A scene, the settings that shape its rays, and the radiance function of the render mode.
+struct Integrator {
+    const Scene& scene;
+    const RenderOptions& options;
+    RadianceFunction radiance;
+};
+
+/// The radiance function of a render mode.
+RadianceFunction radiance_function_for(RenderMode mode);
+
+/// Traces a secondary ray (t > 0) of `kind` from the shading of `parent`'s ray, counts it,
+/// records it when explaining, and returns what the integrator's radiance function makes of it.
+/// `child` is the context the ray is traced with (depth, weight, index of refraction already set).
+Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3f multiplier, const TraceContext& parent,
+                TraceContext child);
+
+/// What reaches `origin` from a light along `to_light` over `distance`: 1 (all of it) when
+/// nothing is in the way, 0 when something is. Counts and records the shadow ray.
+Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
+                          TraceContext& context);
+
+/// What the render mode shows along `ray`, whose closest hit is `hit`, traced as a camera ray
+/// (depth 0, weight 1, in vacuum): the colour of a pixel whose only ray this is. For tests and tools.
+Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray& ray, const Hit& hit,
+                     RayCounts* counts = nullptr);
+
+}  // namespace raycast

@@ -1,0 +1,282 @@
+// The radiance functions of the render modes (render/integrator.h): the Whitted ray tracer of
+// the Shaded mode, and the debugging views.
+#include <algorithm>
+#include <cmath>
+
+#include "render/integrator.h"
+#include "render/shade.h"
+
+namespace raycast {
+
+RayCounts& RayCounts::operator+=(const RayCounts& other) {
+    primary += other.primary;
+    primary_hits += other.primary_hits;
+    shadow += other.shadow;
+    secondary += other.secondary;
+    nodes_visited += other.nodes_visited;
+    truncated += other.truncated;
+    return *this;
+}
+
+namespace {
+
+RayRecord* record_of(const TraceContext& context) {
+    return context.tree ? &context.tree->rays[static_cast<size_t>(context.record)] : nullptr;
+}
+
+// Takes one ray from the camera sample's budget; false when it is spent (the first time, the
+// sample is counted as truncated).
+bool take_ray(const TraceContext& context) {
+    if (*context.rays_left == 0) return false;
+    if (--*context.rays_left == 0) ++context.counts->truncated;
+    return true;
+}
+
+// Records the surface a ray hit, for explain.
+void record_surface(const TraceContext& context, const Hit& hit, const SurfacePoint& surface) {
+    RayRecord* record = record_of(context);
+    if (!record || !hit.is_hit()) return;
+    record->hit = true;
+    record->t = hit.t;
+    record->object = hit.object;
+    record->material = surface.material;
+    record->point = surface.position;
+    record->normal = record->shading_normal = surface.normal;
+}
+
+// A ray's colour, recorded for explain.
+Vec3f finish(const TraceContext& context, Vec3f color) {
+    if (RayRecord* record = record_of(context)) record->color = color;
+    return color;
+}
+
+// Where the hit is and how it is oriented towards the ray, recorded for explain.
+struct ShadingFrame {
+    SurfacePoint surface;
+    Vec3f normal;     // the shading normal: flipped towards the viewer on back faces with shade_back
+    Vec3f to_viewer;  // unit, −direction
+    bool back_face;   // the ray met the side the geometric normal points away from
+};
+
+ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit) {
+    ShadingFrame frame;
+    frame.surface = surface_at(scene, ray, hit);
+    frame.normal = frame.surface.normal;
+    frame.to_viewer = normalize(-ray.direction);
+    frame.back_face = dot(frame.normal, frame.to_viewer) < 0;
+    if (frame.back_face && scene.conventions.shade_back_faces) frame.normal = -frame.normal;
+    return frame;
+}
+
+// Ambient plus every light, each gated by its shadow ray when shadows are on: the course's
+// ray caster is this with no shadows and no ambient.
+Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, TraceContext& context) {
+    const Scene& scene = integrator.scene;
+    const Material& material = scene.materials[frame.surface.material];
+    RayRecord* record = record_of(context);
+    const Vec3f ambient = scene.ambient * material.diffuse;
+    Vec3f color = ambient;
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Illumination arriving = illuminate(scene.lights[i], frame.surface.position);
+        Vec3f transmittance{1, 1, 1};
+        if (integrator.options.shadows) {
+            const Vec3f origin = offset_ray_origin(frame.surface.position, frame.normal, arriving.to_light);
+            transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context);
+        }
+        const bool lit = transmittance != Vec3f{0, 0, 0};
+        LightReflection terms{};
+        if (lit || record)
+            terms = reflect_light_terms(material, scene.conventions.specular, frame.normal, arriving.to_light,
+                                        frame.to_viewer);
+        Vec3f contribution{};
+        if (lit) {
+            contribution = arriving.color * (terms.diffuse + terms.specular);
+            if (transmittance != Vec3f{1, 1, 1}) contribution = contribution * transmittance;
+            color += contribution;
+        }
+        if (record)
+            record->lights.push_back({static_cast<uint32_t>(i), arriving.to_light, arriving.distance, arriving.color,
+                                      transmittance, terms.diffuse, terms.specular, contribution});
+    }
+    if (record) {
+        record->ambient = ambient;
+        record->local = color;
+    }
+    return color;
+}
+
+// The Shaded mode: local shading at the hit (the course's ray caster, with shadows when asked),
+// the background on a miss, and the conventions' back-face rule.
+Vec3f shaded_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context) {
+    const Scene& scene = integrator.scene;
+    RayRecord* record = record_of(context);
+    if (!hit.is_hit()) return finish(context, scene.background);
+    const ShadingFrame frame = shading_frame(scene, ray, hit);
+    record_surface(context, hit, frame.surface);
+    if (record) {
+        record->shading_normal = frame.normal;
+        record->back_face = frame.back_face;
+    }
+    if (frame.back_face && !scene.conventions.shade_back_faces && scene.conventions.black_back_faces) {
+        if (record) record->note = "back face: black without shade_back (MIT's rule)";
+        return finish(context, {0, 0, 0});
+    }
+    Vec3f color = local_shading(integrator, frame, context);
+
+    return finish(context, color);
+}
+
+Vec3f normals_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context) {
+    if (!hit.is_hit()) return finish(context, {});
+    const SurfacePoint surface = surface_at(integrator.scene, ray, hit);
+    record_surface(context, hit, surface);
+    return finish(context, abs(surface.normal));
+}
+
+// Depth images need the range of every pixel's distance: the render loop keeps the distances
+// and makes the grey levels at the end, so a ray's own colour is black here.
+Vec3f depth_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context) {
+    if (context.tree && hit.is_hit()) record_surface(context, hit, surface_at(integrator.scene, ray, hit));
+    return finish(context, {});
+}
+
+Vec3f material_color(uint32_t material) {
+    // Golden-ratio hues: neighbouring indices get clearly different colours.
+    const float hue = std::fmod(0.13f + 0.618034f * static_cast<float>(material), 1.0f) * 6;
+    const float f = hue - std::floor(hue);
+    const int sector = static_cast<int>(hue) % 6;
+    const float v = 0.9f, p = 0.25f, q = v - (v - p) * f, t = p + (v - p) * f;
+    switch (sector) {
+        case 0: return {v, t, p};
+        case 1: return {q, v, p};
+        case 2: return {p, v, t};
+        case 3: return {p, q, v};
+        case 4: return {t, p, v};
+        default: return {v, p, q};
+    }
+}
+
+Vec3f material_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context) {
+    if (!hit.is_hit()) return finish(context, {});
+    const SurfacePoint surface = surface_at(integrator.scene, ray, hit);
+    record_surface(context, hit, surface);
+    return finish(context, material_color(surface.material));
+}
+
+// Nodes visited on a fixed logarithmic scale (1 → dark blue, 4096 → white), so that crops of
+// one image share a scale and merge exactly.
+Vec3f cost_radiance(const Integrator&, const Ray&, const Hit&, TraceContext& context) {
+    const float x = std::clamp(std::log2(static_cast<float>(context.nodes_visited) + 1) / 12.0f, 0.0f, 1.0f);
+    if (x < 0.25f) return finish(context, {0, 0, 0.2f + 3.2f * x});
+    if (x < 0.5f) return finish(context, {4 * (x - 0.25f), 0, 1 - 4 * (x - 0.25f)});
+    if (x < 0.75f) return finish(context, {1, 4 * (x - 0.5f), 0});
+    return finish(context, {1, 1, 4 * (x - 0.75f)});
+}
+
+}  // namespace
+
+RadianceFunction radiance_function_for(RenderMode mode) {
+    switch (mode) {
+        case RenderMode::Shaded: return shaded_radiance;
+        case RenderMode::Normals: return normals_radiance;
+        case RenderMode::Depth: return depth_radiance;
+        case RenderMode::Material: return material_radiance;
+        case RenderMode::Cost: return cost_radiance;
+    }
+    return shaded_radiance;
+}
+
+const char* render_mode_name(RenderMode mode) {
+    switch (mode) {
+        case RenderMode::Shaded: return "shaded";
+        case RenderMode::Normals: return "normals";
+        case RenderMode::Depth: return "depth";
+        case RenderMode::Material: return "material";
+        case RenderMode::Cost: return "cost";
+    }
+    return "shaded";
+}
+
+Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3f multiplier, const TraceContext& parent,
+                TraceContext child) {
+    if (!take_ray(child)) {
+        if (RayRecord* record = record_of(parent)) record->note = "ray not traced: the sample reached its limit of rays";
+        return {0, 0, 0};
+    }
+    ++child.counts->secondary;
+    Hit hit;
+    intersect(integrator.scene, ray, 0, hit);
+    if (child.tree) {
+        RayRecord record;
+        record.kind = kind;
+        record.parent = parent.record;
+        record.depth = child.depth;
+        record.origin = ray.origin;
+        record.direction = ray.direction;
+        record.t_min = 0;
+        record.t_max = INFINITY;
+        record.weight = child.weight;
+        record.multiplier = multiplier;
+        record.index_of_refraction = child.index_of_refraction;
+        child.record = child.tree->add(std::move(record));
+    }
+    return integrator.radiance(integrator, ray, hit, child);
+}
+
+Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
+                          TraceContext& context) {
+    const Scene& scene = integrator.scene;
+    int shadow_record = -1;
+    if (context.tree) {
+        RayRecord record;
+        record.kind = RayKind::Shadow;
+        record.parent = context.record;
+        record.depth = context.depth;
+        record.origin = origin;
+        record.direction = to_light;
+        record.t_min = 0;
+        record.t_max = distance;
+        record.weight = context.weight;
+        shadow_record = context.tree->add(std::move(record));
+    }
+    const auto finish = [&](Vec3f transmittance, const Hit* blocker, const Ray& ray) {
+        if (shadow_record >= 0) {
+            RayRecord& record = context.tree->rays[static_cast<size_t>(shadow_record)];
+            record.transmittance = transmittance;
+            record.color = transmittance;
+            if (blocker) {
+                const SurfacePoint surface = surface_at(scene, ray, *blocker);
+                record.hit = true;
+                record.t = blocker->t;
+                record.object = blocker->object;
+                record.material = surface.material;
+                record.point = surface.position;
+                record.normal = record.shading_normal = surface.normal;
+            }
+        }
+        return transmittance;
+    };
+    const Ray ray{origin, to_light};
+    if (!take_ray(context)) return finish({1, 1, 1}, nullptr, ray);
+    ++context.counts->shadow;
+    if (!context.tree) return occluded(scene, ray, 0, distance) ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
+    // Explaining: the same answer, but with the blocker named.
+    Hit hit;
+    intersect(scene, ray, 0, hit);
+    if (hit.is_hit() && hit.t < distance) return finish({0, 0, 0}, &hit, ray);
+    return finish({1, 1, 1}, nullptr, ray);
+}
+
+Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray& ray, const Hit& hit, RayCounts* counts) {
+    const Integrator integrator{scene, options, radiance_function_for(options.mode)};
+    RayCounts local_counts;
+    uint32_t budget = kMaxRaysPerSample;
+    Sampler sampler(0, 0);
+    TraceContext context;
+    context.sampler = &sampler;
+    context.counts = counts ? counts : &local_counts;
+    context.rays_left = &budget;
+    return integrator.radiance(integrator, ray, hit, context);
+}
+
+}  // namespace raycast

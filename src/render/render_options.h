@@ -1,0 +1,45 @@
+// What a render is asked to do: the mode, the rays it may trace (shadows, bounces), samples,
+// threads, tiles and crop. Shared by the render loop and the integrators.
+#pragma once
+
+#include <functional>
+
+#include "scene/intersect_packet.h"
+
+namespace raycast {
+
+/// What each pixel shows.
+enum class RenderMode {
+    Shaded,    ///< the lit image: Phong shading, plus shadows when asked
+    Normals,   ///< |n| per channel of the unit world normal; background black (MIT 6.837's normals image)
+    Depth,     ///< clamp((far − t)/(far − near)) as grey; background black (MIT 6.837's depth image)
+    Material,  ///< a distinct flat colour per material
+    Cost,      ///< BVH nodes visited, as a heat map
+};
+
+/// "shaded", "normals", "depth", "material" or "cost".
+const char* render_mode_name(RenderMode mode);
+
+/// A window of the image in pixel coordinates with y = 0 at the top (as image viewers number
+/// rows): columns [x0, x1), rows [y0, y1).
+struct CropWindow {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
+struct RenderOptions {
+    int threads = 1;
+    int tile_size = 16;
+    RenderMode mode = RenderMode::Shaded;
+    int samples_per_pixel = 1;  ///< stratified over an n×n grid when n² = spp, else a jittered row
+    bool shadows = false;       ///< a shadow ray towards every light from every shaded hit
+    float depth_near = 0, depth_far = 0;  ///< Depth mode; both 0: the range of the visible hits
+    /// How primary rays are traced: SIMD packets of an instruction set, or None for one ray at a
+    /// time. The image is the same either way. Default: the best this CPU runs.
+    PacketIsa packet_isa = best_packet_isa();
+    bool has_crop = false;
+    CropWindow crop;      ///< render only this window (the image has the window's size)
+    /// Called now and then from the rendering threads with the fraction done (0..1).
+    std::function<void(double)> progress;
+};
+
+}  // namespace raycast

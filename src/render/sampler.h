@@ -1,0 +1,66 @@
+// Random numbers for rendering, all counter-based: a number depends only on the pixel, the sample
+// and which number of that sample it is, never on the thread or the order in which pixels were
+// rendered. So an image is the same on any number of threads, and `raycast explain` can re-trace
+// one pixel alone and get exactly what the image shows.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "math/vec.h"
+
+namespace raycast {
+
+/// A small, well-mixed hash (the "lowbias32" of Chris Wellons' hash prospector).
+inline uint32_t hash32(uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    x ^= x >> 16;
+    return x;
+}
+
+/// The top 24 bits of `bits` as a float in [0, 1): every value exactly representable.
+inline float unit_float(uint32_t bits) { return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f); }
+
+/// Where sample `s` of `spp` falls inside its pixel, in [0, 1)²: one jittered point per cell of an
+/// n×n grid when spp = n², else per cell of a 1×spp row. spp = 1 is the pixel's own point (½, ½).
+inline Vec2f pixel_sample_offset(uint32_t pixel_index, int s, int spp) {
+    if (spp == 1) return {0.5f, 0.5f};
+    int columns = static_cast<int>(std::lround(std::sqrt(static_cast<double>(spp))));
+    if (columns * columns != spp) columns = spp;
+    const int rows = spp / columns;
+    const uint32_t seed = hash32(pixel_index * 0x9e3779b9U + static_cast<uint32_t>(s));
+    const float jitter_x = unit_float(hash32(seed ^ 0x68bc21ebU));
+    const float jitter_y = unit_float(hash32(seed ^ 0x02e5be93U));
+    return {(static_cast<float>(s % columns) + jitter_x) / static_cast<float>(columns),
+            (static_cast<float>(s / columns) + jitter_y) / static_cast<float>(rows)};
+}
+
+/// The point on a thin lens for sample `s` of a pixel, in [0, 1)² (camera_ray maps it to the disk).
+inline Vec2f lens_sample(uint32_t pixel_index, int s) {
+    const uint32_t seed = hash32(pixel_index ^ hash32(static_cast<uint32_t>(s) + 0x5bd1e995U));
+    return {unit_float(hash32(seed)), unit_float(hash32(seed + 1))};
+}
+
+/// The random numbers an integrator draws while it traces one camera sample (directions for
+/// ambient occlusion, paths later): the i-th number of sample s of a pixel is a hash of the three,
+/// independent of the pixel's position offsets and lens point above.
+class Sampler {
+public:
+    Sampler(uint32_t pixel_index, int sample_index)
+        : seed_(hash32(pixel_index * 0x85ebca6bU ^ hash32(static_cast<uint32_t>(sample_index) + 0x27d4eb2fU))) {}
+
+    float next_1d() { return unit_float(hash32(seed_ ^ hash32(index_++ * 0x9e3779b9U + 0x165667b1U))); }
+    Vec2f next_2d() {
+        const float u = next_1d();
+        return {u, next_1d()};
+    }
+
+private:
+    uint32_t seed_;
+    uint32_t index_ = 0;
+};
+
+}  // namespace raycast
