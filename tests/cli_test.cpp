@@ -120,6 +120,14 @@ TEST(CliTest, UsageErrorsExitTwoWithAMessageAndAHint) {
         {"--size 10x s.txt o.ppm", "--size height needs a whole number, got ''"},
         {"--size 16385x10 s.txt o.ppm", "--size width must be at most 16384, got 16385"},
         {"--mode fancy s.txt o.ppm", "--mode must be shaded, normals, depth, material or cost, got 'fancy'"},
+        {"--bounces -1 s.txt o.ppm", "--bounces must not be negative, got -1"},
+        {"--bounces 1001 s.txt o.ppm", "--bounces must be at most 1000, got 1001"},
+        {"--bounces two s.txt o.ppm", "--bounces needs a whole number, got 'two'"},
+        {"-input s.txt -size 8 8 -output o.ppm -bounces -3", "-bounces must not be negative, got -3"},
+        {"--weight 1.5 s.txt o.ppm", "--weight must be from 0 to 1, got 1.5"},
+        {"--weight -0.1 s.txt o.ppm", "--weight must be from 0 to 1, got -0.1"},
+        {"--weight nan s.txt o.ppm", "--weight needs a number, got 'nan'"},
+        {"-input s.txt -size 8 8 -output o.ppm -weight 2", "-weight must be from 0 to 1, got 2"},
     };
     for (const auto& [arguments, message] : cases) {
         SCOPED_TRACE(arguments);

@@ -201,5 +201,28 @@ TEST(StudentScenesTest, AFieldGivenTwiceRendersWithTheLastValueAndAWarning) {
     EXPECT_EQ(read_file(dir + "/twice.ppm"), read_file(dir + "/blue.ppm"));
 }
 
+TEST(StudentScenesTest, MirrorsAndGlassWithoutBouncesSaySoOnce) {
+    const std::string dir = temp_dir("students/no_bounces");
+    std::string scene = scene_with_mesh("", 2);
+    const std::string red = "Material { diffuseColor 1 0 0 }";
+    scene.replace(scene.find(red), red.size(), "Material { diffuseColor 1 0 0 reflectiveColor 0.5 0.5 0.5 }");
+    write_file(dir + "/mirror.txt", scene);
+    const std::string note =
+        "raycast: note: the scene has reflective or transparent materials, but no reflected or transmitted rays "
+        "are traced: add --bounces N (e.g. --bounces 5) to see mirrors and glass\n";
+    EXPECT_EQ(run_raycast("mirror.txt o.ppm", dir).output, note);
+    // MIT's form names its own flag.
+    EXPECT_EQ(run_raycast("-input mirror.txt -output o.ppm", dir).output,
+              "raycast: note: the scene has reflective or transparent materials, but no reflected or transmitted rays "
+              "are traced: add -bounces N (e.g. -bounces 5) to see mirrors and glass\n");
+    for (const char* quiet : {"--bounces 1", "-q", "--mode normals"})
+        EXPECT_EQ(run_raycast(std::string("mirror.txt o.ppm ") + quiet, dir).output, "") << quiet;
+    // A reflective material that no object uses is not worth a note.
+    std::string unused = scene;
+    unused.replace(unused.find("MaterialIndex 0"), 15, "MaterialIndex 1");
+    write_file(dir + "/unused.txt", unused);
+    EXPECT_EQ(run_raycast("unused.txt o.ppm", dir).output, "");
+}
+
 }  // namespace
 }  // namespace raycast::test

@@ -12,7 +12,9 @@ namespace raycast {
 std::string usage_text() {
     return R"(usage: raycast [options] SCENE OUTPUT
        raycast -input SCENE -size W H -output FILE [-depth NEAR FAR FILE] [-normals FILE]
-               [-shade_back] [-specular_fix] [-shadows]
+               [-shade_back] [-specular_fix] [-shadows] [-bounces N] [-weight W]
+               [-transparent_shadows]
+       raycast explain SCENE X Y [options]
        raycast compare A B [--diff DIFF]
        raycast merge -o OUTPUT PIECE...
 
@@ -41,6 +43,13 @@ Options:
                              (default: the nearest and farthest visible hits)
       --spp N                N samples per pixel, stratified (default 1: the course's image)
       --shadows              cast shadow rays towards every light
+      --bounces N            trace reflected and transmitted rays up to N deep (default 0:
+                             local shading only, the course's ray caster)
+      --weight W             stop a path once its weight (the product of the reflective and
+                             transparent colours' magnitudes along it) falls below W, 0..1
+                             (default 0.001)
+      --transparent-shadows  shadow rays pass through transparent surfaces, filtered by their
+                             transparentColor (default: any surface blocks the light)
       --aperture D           thin-lens camera with a lens D wide (depth of field)
       --focus-distance F     distance that stays sharp (default: what the image centre sees)
       --crop X0,Y0,X1,Y1     render only columns X0..X1-1 and rows Y0..Y1-1 (row 0 at the top);
@@ -53,6 +62,9 @@ Options:
                              widest this CPU runs. The image is the same with every choice.
       --no-packets           the same as --simd none
 
+explain prints, as JSON, the tree of rays behind pixel (X, Y) (row 0 at the top, as --crop):
+every camera, shadow, reflected and transmitted ray, what it hit and the shading terms, with the
+same options as a render (docs/explain.md).
 compare prints how A and B differ (pixels, max and mean error, PSNR); --diff writes a heat map.
 merge assembles .ppm pieces written with --crop into the full image, byte-identical to one render.
 
@@ -72,6 +84,19 @@ int parse_positive_int(const std::string& text, const std::string& what, int64_t
     if (result.status != NumberStatus::Ok || result.end != last)
         usage_error(what + " needs a whole number, got '" + text + "'");
     if (value < 1) usage_error(what + " must be at least 1, got " + text);
+    if (value > limit) usage_error(what + " must be at most " + std::to_string(limit) + ", got " + text);
+    return static_cast<int>(value);
+}
+
+// A whole number from 0 to `limit`.
+int parse_count(const std::string& text, const std::string& what, int64_t limit) {
+    int64_t value = 0;
+    const char* first = text.c_str();
+    const char* last = first + text.size();
+    const NumberResult result = parse_int(first, last, value);
+    if (result.status != NumberStatus::Ok || result.end != last)
+        usage_error(what + " needs a whole number, got '" + text + "'");
+    if (value < 0) usage_error(what + " must not be negative, got " + text);
     if (value > limit) usage_error(what + " must be at most " + std::to_string(limit) + ", got " + text);
     return static_cast<int>(value);
 }
@@ -117,7 +142,7 @@ void parse_size(const std::string& text, const std::string& what, CliOptions& op
 // Walks argv with the current position, for options that take values.
 class Arguments {
 public:
-    Arguments(int argc, const char* const* argv) : argc_(argc), argv_(argv) {}
+    Arguments(int argc, const char* const* argv, int first) : argc_(argc), argv_(argv), index_(first) {}
     bool done() const { return index_ >= argc_; }
     std::string next() { return argv_[index_++]; }
     std::string value_for(const std::string& option) {
@@ -128,7 +153,7 @@ public:
 private:
     int argc_;
     const char* const* argv_;
-    int index_ = 1;
+    int index_;
 };
 
 // The switches that adjust a course's conventions, kept apart until the command line is read, so
@@ -168,6 +193,28 @@ void check_render_options(CliOptions& options, const std::vector<std::string>& p
         if (c.x0 < 0 || c.y0 < 0 || c.x1 <= c.x0 || c.y1 <= c.y0)
             usage_error("--crop needs X0 < X1 and Y0 < Y1, all at least 0");
     }
+}
+
+bool looks_like_integer(const std::string& text) {
+    size_t i = text.size() > 1 && (text[0] == '-' || text[0] == '+') ? 1 : 0;
+    if (i == text.size()) return false;
+    for (; i < text.size(); ++i)
+        if (text[i] < '0' || text[i] > '9') return false;
+    return true;
+}
+
+// explain SCENE X Y, or X Y with MIT's -input SCENE; no images to write.
+void check_explain_options(CliOptions& options, const std::vector<std::string>& positional) {
+    if (!options.output_path.empty() || !options.depth_path.empty() || !options.normals_path.empty())
+        usage_error("explain prints the ray tree of one pixel and writes no image: drop -output, -depth and -normals");
+    const size_t wanted = options.mit_form ? 2 : 3;
+    if (positional.size() != wanted)
+        usage_error(options.mit_form ? "explain needs the pixel: raycast explain -input SCENE X Y"
+                                     : "explain needs a scene and a pixel: raycast explain SCENE X Y");
+    if (!options.mit_form) options.scene_path = positional[0];
+    const size_t first = wanted - 2;
+    options.explain_x = parse_count(positional[first], "explain X", kMaxImageSide);
+    options.explain_y = parse_count(positional[first + 1], "explain Y", kMaxImageSide);
 }
 
 CropWindow parse_crop(const std::string& text) {
@@ -219,11 +266,18 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
         return options;
     }
 
-    Arguments args(argc, argv);
+    const bool explain = argc >= 2 && std::strcmp(argv[1], "explain") == 0;
+    if (explain) options.command = CliOptions::Command::Explain;
+    Arguments args(argc, argv, explain ? 2 : 1);
     std::vector<std::string> positional;
     ConventionChoices choices;
     while (!args.done()) {
         const std::string arg = args.next();
+        // explain's pixel coordinates are positional, even when negative (then refused below).
+        if (explain && looks_like_integer(arg)) {
+            positional.push_back(arg);
+            continue;
+        }
         if (arg == "-h" || arg == "--help") {
             options.command = CliOptions::Command::Help;
             return options;
@@ -264,9 +318,15 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             args.value_for(arg);
             args.value_for(arg);
             options.notes.push_back("-tessellation is ignored: raycast has no OpenGL preview");
-        } else if (arg == "-bounces" || arg == "-weight") {
-            args.value_for(arg);
-            options.notes.push_back(arg + " is ignored: reflection and refraction are not implemented yet");
+        } else if (arg == "-bounces" || arg == "--bounces") {
+            options.render.bounces = parse_count(args.value_for(arg), arg, kMaxBounces);
+        } else if (arg == "-weight" || arg == "--weight") {
+            const std::string value = args.value_for(arg);
+            options.render.weight_cutoff = parse_number(value, arg);
+            if (!(options.render.weight_cutoff >= 0 && options.render.weight_cutoff <= 1))
+                usage_error(arg + " must be from 0 to 1, got " + value);
+        } else if (arg == "-transparent_shadows" || arg == "--transparent-shadows") {
+            options.render.transparent_shadows = true;
         }
         // raycast's own options.
         else if (arg == "-j" || arg == "--threads") {
@@ -348,7 +408,10 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             positional.push_back(arg);
         }
     }
-    check_render_options(options, positional);
+    if (explain)
+        check_explain_options(options, positional);
+    else
+        check_render_options(options, positional);
     options.conventions = chosen_conventions(choices, options.mit_form);
     options.fov_given = choices.fov_given;
     return options;

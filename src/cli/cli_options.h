@@ -1,5 +1,6 @@
 // The command line: the course's form `raycast SCENE OUTPUT [options]`, MIT 6.837's form
-// `raycast -input SCENE -size W H -output FILE ...`, and the tools `compare` and `merge`.
+// `raycast -input SCENE -size W H -output FILE ...`, `explain` (the ray tree of one pixel), and
+// the tools `compare` and `merge`.
 // Arguments are read into a CliOptions and then checked as a whole.
 #pragma once
 
@@ -19,7 +20,7 @@ public:
 };
 
 struct CliOptions {
-    enum class Command { Render, Compare, Merge, Help, Version };
+    enum class Command { Render, Explain, Compare, Merge, Help, Version };
     Command command = Command::Render;
 
     // render
@@ -39,6 +40,9 @@ struct CliOptions {
     float aperture = 0;         ///< thin-lens diameter in world units; 0 is a pinhole
     float focus_distance = 0;   ///< 0: the distance to the point the camera looks at… (see --help)
     bool has_focus_distance = false;
+
+    // explain
+    int explain_x = 0, explain_y = 0;  ///< the pixel, row 0 at the top
 
     // compare
     std::vector<std::string> inputs;  ///< compare: A B; merge: the pieces

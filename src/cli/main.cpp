@@ -19,6 +19,7 @@
 #include "image/compare_images.h"
 #include "image/crop_pieces.h"
 #include "image/image_io.h"
+#include "render/integrator.h"
 #include "render/render.h"
 #include "scene/build_scene.h"
 #include "scene/intersect_packet.h"
@@ -118,6 +119,15 @@ struct LoadedScene {
     double load_ms = 0, build_ms = 0;
 };
 
+// Whether any object's material reflects or refracts.
+bool uses_mirrors_or_glass(const Scene& scene) {
+    for (const Instance& instance : scene.instances) {
+        const Material& m = scene.materials[instance.material];
+        if (m.reflective != Vec3f{0, 0, 0} || m.transparent != Vec3f{0, 0, 0}) return true;
+    }
+    return false;
+}
+
 LoadedScene load_and_build(const CliOptions& options, int threads) {
     if (!options.quiet)
         for (const std::string& note : options.notes) std::fprintf(stderr, "raycast: note: %s\n", note.c_str());
@@ -156,6 +166,11 @@ LoadedScene load_and_build(const CliOptions& options, int threads) {
     if (scene.lights.empty() && scene.ambient == Vec3f{0, 0, 0} && mode == RenderMode::Shaded)
         std::fprintf(stderr, "%s: warning: the scene has no lights and no ambient light: every object will be black\n",
                      loaded.file.c_str());
+    if (mode == RenderMode::Shaded && options.render.bounces == 0 && uses_mirrors_or_glass(scene))
+        std::fprintf(stderr,
+                     "raycast: note: the scene has reflective or transparent materials, but no reflected or "
+                     "transmitted rays are traced: add %s N (e.g. %s 5) to see mirrors and glass\n",
+                     options.mit_form ? "-bounces" : "--bounces", options.mit_form ? "-bounces" : "--bounces");
     return loaded;
 }
 
@@ -200,6 +215,12 @@ int run_render(const CliOptions& options) {
             write_image(path, image);
         }
     }
+    if (stats.truncated_samples > 0 && !options.quiet)
+        std::fprintf(stderr,
+                     "raycast: warning: %llu camera samples reached the limit of %u rays each, so their mirror and glass "
+                     "rays were cut short: lower %s or raise %s\n",
+                     static_cast<unsigned long long>(stats.truncated_samples), kMaxRaysPerSample,
+                     options.mit_form ? "-bounces" : "--bounces", options.mit_form ? "-weight" : "--weight");
     if (options.stats) {
         const double mrays = stats.milliseconds > 0 ? static_cast<double>(stats.rays) / (stats.milliseconds * 1000) : 0;
         std::printf("raycast-stats load_ms=%.3f build_ms=%.3f render_ms=%.3f rays=%llu mrays_per_s=%.3f "
@@ -212,6 +233,22 @@ int run_render(const CliOptions& options) {
                     static_cast<unsigned long long>(stats.shadow_rays),
                     static_cast<unsigned long long>(stats.secondary_rays));
     }
+    return 0;
+}
+
+int run_explain(const CliOptions& options) {
+    const int threads = options.threads > 0 ? options.threads : hardware_threads();
+    const LoadedScene loaded = load_and_build(options, threads);
+    const Camera& camera = loaded.scene.camera;
+    if (options.explain_x >= camera.width || options.explain_y >= camera.height)
+        throw UsageError(string_printf("pixel %d %d is outside the %dx%d image (columns 0 to %d, rows 0 to %d)",
+                                       options.explain_x, options.explain_y, camera.width, camera.height,
+                                       camera.width - 1, camera.height - 1));
+    RenderOptions render = options.render;
+    render.threads = threads;
+    PixelExplanation explanation = explain_pixel(loaded.scene, render, options.explain_x, options.explain_y);
+    explanation.scene = loaded.file;
+    std::fputs(explanation_json(explanation).c_str(), stdout);
     return 0;
 }
 
@@ -269,6 +306,8 @@ int run(int argc, char** argv) {
                 return run_merge(options);
             case CliOptions::Command::Render:
                 return run_render(options);
+            case CliOptions::Command::Explain:
+                return run_explain(options);
         }
     } catch (const UsageError& error) {
         std::fprintf(stderr, "raycast: usage error: %s\nTry 'raycast --help' for more information.\n", error.what());

@@ -63,7 +63,8 @@ struct Integrator {
     RadianceFunction radiance;
 };
 
-/// The radiance function of a render mode.
+/// The radiance function of a render mode (Shaded is the Whitted ray tracer; with 0 bounces and
+/// no shadows it is the course's ray caster).
 RadianceFunction radiance_function_for(RenderMode mode);
 
 /// Traces a secondary ray (t > 0) of `kind` from the shading of `parent`'s ray, counts it,
@@ -72,14 +73,16 @@ RadianceFunction radiance_function_for(RenderMode mode);
 Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3f multiplier, const TraceContext& parent,
                 TraceContext child);
 
-/// What reaches `origin` from a light along `to_light` over `distance`: 1 (all of it) when
-/// nothing is in the way, 0 when something is. Counts and records the shadow ray.
+/// What reaches `position` from a light along `to_light` over `distance`: 1 (all of it) when
+/// nothing is in the way, 0 when an opaque object is, and with transparent shadows the product
+/// of the transparentColor of every surface crossed. Counts and records the shadow ray.
 Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
                           TraceContext& context);
 
 /// What the render mode shows along `ray`, whose closest hit is `hit`, traced as a camera ray
-/// (depth 0, weight 1, in vacuum): the colour of a pixel whose only ray this is. For tests and tools.
+/// (depth 0, weight 1, in vacuum): the colour of a pixel whose only ray this is. With `tree`,
+/// every ray is recorded there (rays[0] is `ray`). For tests and tools.
 Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray& ray, const Hit& hit,
-                     RayCounts* counts = nullptr);
+                     RayCounts* counts = nullptr, RayTree* tree = nullptr);
 
 }  // namespace raycast

@@ -56,6 +56,7 @@ struct ShadingFrame {
     Vec3f normal;     // the shading normal: flipped towards the viewer on back faces with shade_back
     Vec3f to_viewer;  // unit, −direction
     bool back_face;   // the ray met the side the geometric normal points away from
+    float travel_scale;  // of the ray that found the point: for offsetting new rays
 };
 
 ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit) {
@@ -64,6 +65,7 @@ ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit) {
     frame.normal = frame.surface.normal;
     frame.to_viewer = normalize(-ray.direction);
     frame.back_face = dot(frame.normal, frame.to_viewer) < 0;
+    frame.travel_scale = ray_travel_scale(ray.origin, ray.direction, hit.t);
     if (frame.back_face && scene.conventions.shade_back_faces) frame.normal = -frame.normal;
     return frame;
 }
@@ -80,7 +82,8 @@ Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, Tra
         const Illumination arriving = illuminate(scene.lights[i], frame.surface.position);
         Vec3f transmittance{1, 1, 1};
         if (integrator.options.shadows) {
-            const Vec3f origin = offset_ray_origin(frame.surface.position, frame.normal, arriving.to_light);
+            const Vec3f origin =
+                offset_ray_origin(frame.surface.position, frame.normal, arriving.to_light, frame.travel_scale);
             transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context);
         }
         const bool lit = transmittance != Vec3f{0, 0, 0};
@@ -105,9 +108,11 @@ Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, Tra
     return color;
 }
 
-// The Shaded mode: local shading at the hit (the course's ray caster, with shadows when asked),
-// the background on a miss, and the conventions' back-face rule.
-Vec3f shaded_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context) {
+// The Whitted ray tracer (MIT 6.837 assignment 4): local shading, plus reflectiveColor times the
+// colour along the mirror direction, plus transparentColor times the colour along the refracted
+// direction, each traced while the depth is below the bounce limit and the path's weight stays at
+// or above the cutoff. With 0 bounces and no shadows this is exactly the course's ray caster.
+Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context) {
     const Scene& scene = integrator.scene;
     RayRecord* record = record_of(context);
     if (!hit.is_hit()) return finish(context, scene.background);
@@ -123,6 +128,55 @@ Vec3f shaded_radiance(const Integrator& integrator, const Ray& ray, const Hit& h
     }
     Vec3f color = local_shading(integrator, frame, context);
 
+    const Material& material = scene.materials[frame.surface.material];
+    const bool reflects = material.reflective != Vec3f{0, 0, 0};
+    const bool transmits = material.transparent != Vec3f{0, 0, 0};
+    if ((reflects || transmits) && context.depth >= integrator.options.bounces) {
+        if (record) record->note = "reflected and transmitted rays not traced: the bounce limit is reached";
+    } else if (reflects || transmits) {
+        const Vec3f direction = normalize(ray.direction);
+        const Vec3f geometric = frame.surface.normal;
+        if (reflects) {
+            TraceContext child = context;
+            child.depth = context.depth + 1;
+            child.weight = context.weight * length(material.reflective);
+            if (child.weight >= integrator.options.weight_cutoff) {
+                const Vec3f mirrored = mirror_direction(direction, geometric);
+                const Ray reflected{offset_ray_origin(frame.surface.position, geometric, mirrored, frame.travel_scale),
+                                    mirrored};
+                const Vec3f incoming = trace_ray(integrator, reflected, RayKind::Reflected, material.reflective, context, child);
+                const Vec3f term = material.reflective * incoming;
+                color += term;
+                if (record) record->reflected = term;
+            } else if (record) {
+                record->note = "reflected ray not traced: its weight is below the cutoff";
+            }
+        }
+        if (transmits) {
+            // Objects sit in vacuum: a ray against the geometric normal enters the material,
+            // one along it leaves (MIT's convention, whatever the back-face rule did to shading).
+            const bool entering = dot(direction, geometric) < 0;
+            TraceContext child = context;
+            child.depth = context.depth + 1;
+            child.weight = context.weight * length(material.transparent);
+            child.index_of_refraction = entering ? material.index_of_refraction : 1.0f;
+            Vec3f refracted;
+            const float from = entering ? 1.0f : material.index_of_refraction;
+            if (child.weight < integrator.options.weight_cutoff) {
+                if (record) record->note = "transmitted ray not traced: its weight is below the cutoff";
+            } else if (!refract_direction(direction, geometric, from, child.index_of_refraction, refracted)) {
+                if (record) record->total_internal_reflection = true;
+            } else {
+                const Ray transmitted{
+                    offset_ray_origin(frame.surface.position, geometric, refracted, frame.travel_scale), refracted};
+                const Vec3f incoming =
+                    trace_ray(integrator, transmitted, RayKind::Transmitted, material.transparent, context, child);
+                const Vec3f term = material.transparent * incoming;
+                color += term;
+                if (record) record->transmitted = term;
+            }
+        }
+    }
     return finish(context, color);
 }
 
@@ -177,13 +231,13 @@ Vec3f cost_radiance(const Integrator&, const Ray&, const Hit&, TraceContext& con
 
 RadianceFunction radiance_function_for(RenderMode mode) {
     switch (mode) {
-        case RenderMode::Shaded: return shaded_radiance;
+        case RenderMode::Shaded: return whitted_radiance;
         case RenderMode::Normals: return normals_radiance;
         case RenderMode::Depth: return depth_radiance;
         case RenderMode::Material: return material_radiance;
         case RenderMode::Cost: return cost_radiance;
     }
-    return shaded_radiance;
+    return whitted_radiance;
 }
 
 const char* render_mode_name(RenderMode mode) {
@@ -259,15 +313,37 @@ Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_l
     const Ray ray{origin, to_light};
     if (!take_ray(context)) return finish({1, 1, 1}, nullptr, ray);
     ++context.counts->shadow;
-    if (!context.tree) return occluded(scene, ray, 0, distance) ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
-    // Explaining: the same answer, but with the blocker named.
-    Hit hit;
-    intersect(scene, ray, 0, hit);
-    if (hit.is_hit() && hit.t < distance) return finish({0, 0, 0}, &hit, ray);
-    return finish({1, 1, 1}, nullptr, ray);
+    if (!integrator.options.transparent_shadows) {
+        if (!context.tree) return occluded(scene, ray, 0, distance) ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
+        // Explaining: the same answer, but with the blocker named.
+        Hit hit;
+        intersect(scene, ray, 0, hit);
+        if (hit.is_hit() && hit.t < distance) return finish({0, 0, 0}, &hit, ray);
+        return finish({1, 1, 1}, nullptr, ray);
+    }
+    // Transparent shadows: walk from surface to surface towards the light, each transparent one
+    // filtering the light by its transparentColor, an opaque one stopping it.
+    const bool point_light = std::isfinite(distance);
+    const Vec3f light_position = point_light ? origin + to_light * distance : Vec3f{};
+    Vec3f transmittance{1, 1, 1};
+    Ray segment = ray;
+    float remaining = distance;
+    for (;;) {
+        Hit hit;
+        intersect(scene, segment, 0, hit);
+        if (!hit.is_hit() || !(hit.t < remaining)) return finish(transmittance, nullptr, ray);
+        const SurfacePoint surface = surface_at(scene, segment, hit);
+        transmittance = transmittance * scene.materials[surface.material].transparent;
+        if (transmittance == Vec3f{0, 0, 0} || !take_ray(context)) return finish({0, 0, 0}, &hit, segment);
+        ++context.counts->shadow;
+        segment.origin = offset_ray_origin(surface.position, surface.normal, to_light,
+                                           ray_travel_scale(segment.origin, segment.direction, hit.t));
+        if (point_light) remaining = length(light_position - segment.origin);
+    }
 }
 
-Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray& ray, const Hit& hit, RayCounts* counts) {
+Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray& ray, const Hit& hit, RayCounts* counts,
+                     RayTree* tree) {
     const Integrator integrator{scene, options, radiance_function_for(options.mode)};
     RayCounts local_counts;
     uint32_t budget = kMaxRaysPerSample;
@@ -276,6 +352,14 @@ Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray
     context.sampler = &sampler;
     context.counts = counts ? counts : &local_counts;
     context.rays_left = &budget;
+    if (tree) {
+        RayRecord record;
+        record.origin = ray.origin;
+        record.direction = ray.direction;
+        record.t_max = INFINITY;
+        context.tree = tree;
+        context.record = tree->add(std::move(record));
+    }
     return integrator.radiance(integrator, ray, hit, context);
 }
 

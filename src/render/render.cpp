@@ -332,7 +332,10 @@ PixelExplanation explain_pixel(const Scene& scene, const RenderOptions& options,
     explanation.width = camera.width;
     explanation.height = camera.height;
     explanation.samples_per_pixel = std::max(1, options.samples_per_pixel);
+    explanation.bounces = options.bounces;
+    explanation.weight_cutoff = options.weight_cutoff;
     explanation.shadows = options.shadows;
+    explanation.transparent_shadows = options.transparent_shadows;
     const int camera_y = camera.height - 1 - y;  // the camera counts rows from the bottom
     const uint32_t index = pixel_index(camera, x, camera_y);
     const Integrator integrator{scene, options, radiance_function_for(options.mode)};

@@ -8,9 +8,13 @@
 
 namespace raycast {
 
+/// The deepest recursion --bounces may ask for: each bounce is a stack frame of the radiance
+/// function, so this bounds the stack, and no picture needs more.
+constexpr int kMaxBounces = 1000;
+
 /// What each pixel shows.
 enum class RenderMode {
-    Shaded,    ///< the lit image: Phong shading, plus shadows when asked
+    Shaded,    ///< the lit image: Phong shading, plus shadows and mirror and glass rays when asked
     Normals,   ///< |n| per channel of the unit world normal; background black (MIT 6.837's normals image)
     Depth,     ///< clamp((far − t)/(far − near)) as grey; background black (MIT 6.837's depth image)
     Material,  ///< a distinct flat colour per material
@@ -32,6 +36,15 @@ struct RenderOptions {
     RenderMode mode = RenderMode::Shaded;
     int samples_per_pixel = 1;  ///< stratified over an n×n grid when n² = spp, else a jittered row
     bool shadows = false;       ///< a shadow ray towards every light from every shaded hit
+    /// Shadow rays pass through transparent surfaces, times their transparentColor (MIT's
+    /// -transparent_shadows); else any surface blocks the light (MIT's assignment: opaque shadows).
+    bool transparent_shadows = false;
+    /// Reflected and transmitted rays are traced while a ray's depth is below this (0: local
+    /// shading only, the course's ray caster) ...
+    int bounces = 0;
+    /// ... and while the path's weight, the product of the magnitudes of the reflective and
+    /// transparent colours along it, is at least this.
+    float weight_cutoff = 0.001f;
     float depth_near = 0, depth_far = 0;  ///< Depth mode; both 0: the range of the visible hits
     /// How primary rays are traced: SIMD packets of an instruction set, or None for one ray at a
     /// time. The image is the same either way. Default: the best this CPU runs.

@@ -45,6 +45,21 @@ LightReflection reflect_light_terms(const Material& material, SpecularModel mode
     return {diffuse, material.specular * specular};
 }
 
+Vec3f mirror_direction(Vec3f d, Vec3f n) { return d - 2 * dot(d, n) * n; }
+
+bool refract_direction(Vec3f d, Vec3f n, float from_index, float to_index, Vec3f& refracted) {
+    // With n turned against d, cos θi = −d·n; Snell: sin θt = η sin θi with η = n1/n2, and
+    // T = η d + (η cos θi − cos θt) n, where cos θt = √(1 − η²(1 − cos² θi)).
+    if (dot(d, n) > 0) n = -n;
+    const float eta = from_index / to_index;
+    const float cos_incident = -dot(d, n);
+    const float sin2_transmitted = eta * eta * (1 - cos_incident * cos_incident);
+    if (sin2_transmitted > 1) return false;  // total internal reflection
+    const float cos_transmitted = std::sqrt(1 - sin2_transmitted);
+    refracted = normalize(eta * d + (eta * cos_incident - cos_transmitted) * n);
+    return true;
+}
+
 namespace {
 
 // The float just above |x| in magnitude, minus |x|: one unit in the last place.
@@ -53,15 +68,22 @@ float ulp(float x) {
     return std::nextafter(x, INFINITY) - x;
 }
 
+float max_abs(Vec3f v) { return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z))); }
+
 }  // namespace
 
-Vec3f offset_ray_origin(Vec3f position, Vec3f normal, Vec3f side) {
-    // The hit point is o + t·d rounded: its error is a few ulps of the largest of its
-    // coordinates (pbrt-v4 and Mitsuba 3 bound it the same way). Moving by a multiple of that
-    // bound along the normal clears the surface at any scene scale, where a fixed epsilon
-    // is either too small far from the origin or visibly too large in a tiny scene.
-    const float magnitude = std::fmax(std::fabs(position.x), std::fmax(std::fabs(position.y), std::fabs(position.z)));
-    const float distance = 64 * ulp(magnitude) + 1e-30f;
+float ray_travel_scale(Vec3f origin, Vec3f direction, float t) {
+    const float scale = max_abs(origin) + std::fabs(t) * max_abs(direction);
+    return std::isfinite(scale) ? scale : 0.0f;
+}
+
+Vec3f offset_ray_origin(Vec3f position, Vec3f normal, Vec3f side, float travel_scale) {
+    // The hit point is o + t·d rounded, with t itself a little off, and the surface it lies on is
+    // only as exact as the point's own coordinates: its error is a few ulps of the largest of
+    // them and of the ray's magnitudes (pbrt-v4 and Mitsuba 3 bound it the same way). Moving by a
+    // multiple of that bound along the normal clears the surface at any scene scale, where a
+    // fixed epsilon is either too small far from the origin or visibly too large in a tiny scene.
+    const float distance = 64 * ulp(max_abs(position)) + 16 * ulp(travel_scale) + 1e-30f;
     const Vec3f n = dot(normal, side) < 0 ? -normal : normal;
     return position + n * distance;
 }

@@ -288,8 +288,10 @@ TEST(ShadeTest, ShadowsRemoveOnlyLightsThatSomethingBlocks) {
 
 TEST(OffsetRayOriginTest, MovesATinyStepAlongTheNormalTowardsTheGivenSide) {
     const Vec3f p{1, 2, 3}, n{0, 0, 1};
-    const Vec3f up = offset_ray_origin(p, n, {0.3f, 0, 0.5f});
-    const Vec3f down = offset_ray_origin(p, n, {0.3f, 0, -0.5f});
+    const float scale = ray_travel_scale({0, 0, 0}, {0, 0, 1}, 3);
+    EXPECT_EQ(scale, 3.0f);
+    const Vec3f up = offset_ray_origin(p, n, {0.3f, 0, 0.5f}, scale);
+    const Vec3f down = offset_ray_origin(p, n, {0.3f, 0, -0.5f}, scale);
     EXPECT_GT(up.z, 3.0f);
     EXPECT_LT(down.z, 3.0f);
     EXPECT_EQ(up.x, 1.0f);
@@ -298,10 +300,21 @@ TEST(OffsetRayOriginTest, MovesATinyStepAlongTheNormalTowardsTheGivenSide) {
     // far below anything visible.
     EXPECT_LT(up.z - 3.0f, 1e-4f);
     // The same whether the normal points to the side or away from it.
-    const Vec3f flipped = offset_ray_origin(p, -n, {0.3f, 0, 0.5f});
+    const Vec3f flipped = offset_ray_origin(p, -n, {0.3f, 0, 0.5f}, scale);
     EXPECT_EQ(flipped.z, up.z);
     // At the origin it still moves (a tiny absolute floor).
-    EXPECT_GT(offset_ray_origin({0, 0, 0}, n, n).z, 0.0f);
+    EXPECT_GT(offset_ray_origin({0, 0, 0}, n, n, 0).z, 0.0f);
+}
+
+TEST(OffsetRayOriginTest, TheStepGrowsWithTheRayThatFoundThePoint) {
+    // (0.1, 0, 0) found from (0, 0, 100) along (0.001, 0, −1) at t = 100: the numbers were near 100.
+    EXPECT_FLOAT_EQ(ray_travel_scale({0, 0, 100}, {0.001f, 0, -1}, 100), 200.0f);
+    // A negative t (orthographic cameras that see behind themselves) counts by its size.
+    EXPECT_FLOAT_EQ(ray_travel_scale({0, 0, 1}, {0, 0, 2}, -3), 7.0f);
+    const Vec3f n{0, 0, 1}, p{0.1f, 0, 0};
+    // 16 ulps of 200 (ulp 1.5e-5) and 64 of 0.1 (ulp 7.5e-9): 2.4e-4 + 4.8e-7.
+    EXPECT_NEAR(offset_ray_origin(p, n, n, 200).z, 16 * 1.52587891e-5f + 64 * 7.4505806e-9f, 1e-9f);
+    EXPECT_GT(offset_ray_origin(p, n, n, 200).z, 100 * offset_ray_origin(p, n, n, 0).z);
 }
 
 // Unit vector perpendicular to n.
@@ -336,12 +349,14 @@ TEST(OffsetRayOriginTest, ShadowRaysDoNotReHitTheirOwnSurfaceAtAnyScale) {
             SceneDesc desc = desc_with(objects[k], {material({1, 1, 1})}, {});
             desc.meshes.push_back({"cube.obj", cube_mesh()});
             const Scene scene = build(desc);
-            // Rays from a viewpoint outside the object towards points spread over it.
-            const Vec3f eye = place + s * Vec3f{1.5f, 2.5f, 6};
+            // Rays from a viewpoint outside the object, near it and 300 times as far, towards
+            // points spread over it: the far one finds points only as accurate as its long rays.
+            for (const float far : {1.0f, 300.0f})
             for (int i = -3; i <= 3; ++i)
                 for (int j = -3; j <= 3; ++j) {
                     const Vec3f target = place + s * Vec3f{0.3f * static_cast<float>(i), 0.3f * static_cast<float>(j),
                                                            0.1f * static_cast<float>(i * j)};
+                    const Vec3f eye = place + far * s * Vec3f{1.5f, 2.5f, 6};
                     const Ray ray{eye, normalize(target - eye)};
                     Hit hit;
                     intersect(scene, ray, 0, hit);
@@ -354,12 +369,13 @@ TEST(OffsetRayOriginTest, ShadowRaysDoNotReHitTheirOwnSurfaceAtAnyScale) {
                         for (const Vec3f side : {t, -t, t2, -t2}) {
                             const float sine = std::sqrt(1 - cosine * cosine);
                             const Vec3f to_light = normalize(cosine * n + sine * side);
-                            const Vec3f origin = offset_ray_origin(surface.position, n, to_light);
+                            const Vec3f origin = offset_ray_origin(
+                                surface.position, n, to_light, ray_travel_scale(ray.origin, ray.direction, hit.t));
                             ++rays;
                             EXPECT_FALSE(occluded(scene, {origin, to_light}, 0, INFINITY))
-                                << "scale " << s << " object " << k << " cosine " << cosine;
-                            // The step stays tiny next to the object.
-                            EXPECT_LT(length(origin - surface.position), 1e-4f * s);
+                                << "scale " << s << " object " << k << " cosine " << cosine << " far " << far;
+                            // The step stays tiny next to the object, or next to the ray's length.
+                            EXPECT_LT(length(origin - surface.position), 1e-4f * s * far);
                             if (occluded(scene, {surface.position, to_light}, 0, INFINITY)) ++raw_self_hits;
                         }
                 }
