@@ -2,7 +2,10 @@
 // run the way the MIT course ran it (from the scene's folder, `-input SCENE -size W H -output FILE`
 // plus `-depth NEAR FAR FILE`, `-normals FILE`, `-shade_back`, and `-specular_fix` for the `fix`
 // rows), and each of the 59 official images must match with at least 99.9% of its pixels within one
-// level. Needs ../shared; skipped without it.
+// level. Assignment 4 (shadows, mirrors, glass: cases-a4.tsv, with -shadows -bounces N -weight W)
+// has 20 consensus images, not official ones, which even the agreeing student renders match only to
+// about 0.5% of pixels (see the README there): each must match with at least 99.5% of its pixels
+// within one level. Needs ../shared; skipped without it.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -24,11 +27,12 @@ struct MitCase {
     std::vector<std::string> references;  ///< official images, in -output, -depth, -normals order
     bool specular_fix = false;
     std::string name;                     ///< unique test name
+    size_t allowed_per_mille = 1;         ///< pixels allowed beyond one level, per thousand
 };
 
-std::string cases_path() {
+std::string cases_path(const char* file) {
     const std::string shared = test::shared_dir();
-    return shared.empty() ? std::string() : shared + "/reference/mit6837-f04/cases.tsv";
+    return shared.empty() ? std::string() : shared + "/reference/mit6837-f04/" + file;
 }
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -47,10 +51,10 @@ std::string test_name(const std::string& reference) {
     return name.substr(0, name.find('.'));
 }
 
-// Reads cases.tsv when it is there; otherwise one placeholder case, which skips.
-std::vector<MitCase> read_cases() {
+// Reads a cases file when it is there; otherwise one placeholder case, which skips.
+std::vector<MitCase> read_cases(const char* file, size_t allowed_per_mille) {
     std::vector<MitCase> cases;
-    std::ifstream in(cases_path());
+    std::ifstream in(cases_path(file));
     std::string line;
     bool header_seen = false;
     while (std::getline(in, line)) {
@@ -68,6 +72,7 @@ std::vector<MitCase> read_cases() {
         c.references = split(fields[3], ' ');
         c.specular_fix = fields[4] == "fix";
         c.name = test_name(c.references.front());
+        c.allowed_per_mille = allowed_per_mille;
         cases.push_back(c);
     }
     if (cases.empty()) {
@@ -80,7 +85,7 @@ std::vector<MitCase> read_cases() {
 
 class Mit6837Reference : public ::testing::TestWithParam<MitCase> {};
 
-TEST_P(Mit6837Reference, MatchesTheOfficialImagesWithinOneLevel) {
+TEST_P(Mit6837Reference, MatchesTheReferenceImagesWithinOneLevel) {
     const MitCase& c = GetParam();
     if (c.scene.empty()) GTEST_SKIP() << "../shared/reference/mit6837-f04 is not here";
     const std::string folder = test::shared_dir() + "/reference/mit6837-f04/" + c.dir;
@@ -116,7 +121,7 @@ TEST_P(Mit6837Reference, MatchesTheOfficialImagesWithinOneLevel) {
         ASSERT_EQ(ours.width, official.width) << c.references[i];
         ASSERT_EQ(ours.height, official.height) << c.references[i];
         const ImageComparison comparison = compare_images(ours, official);
-        const size_t allowed = comparison.pixel_count / 1000;  // 0.1%
+        const size_t allowed = comparison.pixel_count * c.allowed_per_mille / 1000;
         EXPECT_LE(comparison.pixels_beyond(1), allowed)
             << c.references[i] << ": " << comparison.pixels_beyond(1) << " pixels differ by more than 1 level";
         std::printf("%s/%s: %zu pixels differ, %zu by more than 1 level\n", c.dir.c_str(), c.references[i].c_str(),
@@ -124,8 +129,10 @@ TEST_P(Mit6837Reference, MatchesTheOfficialImagesWithinOneLevel) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Official, Mit6837Reference, ::testing::ValuesIn(read_cases()),
-                         [](const ::testing::TestParamInfo<MitCase>& param_info) { return param_info.param.name; });
+std::string case_name(const ::testing::TestParamInfo<MitCase>& param_info) { return param_info.param.name; }
+
+INSTANTIATE_TEST_SUITE_P(Official, Mit6837Reference, ::testing::ValuesIn(read_cases("cases.tsv", 1)), case_name);
+INSTANTIATE_TEST_SUITE_P(Assignment4, Mit6837Reference, ::testing::ValuesIn(read_cases("cases-a4.tsv", 5)), case_name);
 
 }  // namespace
 }  // namespace raycast

@@ -25,6 +25,7 @@ showcase scenes/showcase.txt "$out/mode_material.png" --mode material
 showcase scenes/showcase.txt "$out/mode_cost.png" --mode cost
 showcase scenes/showcase.txt "$out/thin_lens.png" --aperture 0.6 --focus-distance 7.2 --spp 64 --shadows
 showcase scenes/showcase_ortho.txt "$out/orthographic.png" --shadows --spp 16
+render scenes/raytracing.txt "$out/raytracing.png" --shadows --transparent-shadows --bounces 8 --spp 16
 "$raycast" compare "$out/showcase_course.png" "$out/showcase_spp16.png" --diff "$out/compare_diff.png" >/dev/null
 
 if [ -d ../shared/course/testcases ]; then
