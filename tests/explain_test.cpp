@@ -98,7 +98,8 @@ TEST(ExplainTest, EveryPixelsExplanationHasTheRenderedColourAndBytes) {
     RenderOptions cut = traced;
     cut.weight_cutoff = 0.5f;
     settings.push_back({"weight cutoff 0.5", cut});
-    for (const RenderMode mode : {RenderMode::Normals, RenderMode::Depth, RenderMode::Material, RenderMode::Cost}) {
+    for (const RenderMode mode : {RenderMode::Normals, RenderMode::Depth, RenderMode::Material, RenderMode::Cost,
+                                  RenderMode::AmbientOcclusion}) {
         RenderOptions debug;
         debug.mode = mode;
         settings.push_back({render_mode_name(mode), debug});

@@ -1,5 +1,6 @@
 #include "cli/cli_options.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 
@@ -36,7 +37,11 @@ Options:
                              MIT 6.837's default)
       --allow-missing-meshes render without a TriangleMesh whose OBJ file cannot be found (a
                              warning, not an error), as the course's starter does
-      --mode MODE            shaded (default), normals, depth, material or cost
+      --mode MODE            shaded (default), normals, depth, material, cost or ao (ambient
+                             occlusion: the share of rays from each hit that escape, as grey)
+      --ao-samples N         ambient occlusion: rays per hit (default 16)
+      --ao-distance D        ambient occlusion: how far they look (default: a tenth of the
+                             diagonal of the scene's bounding box)
       --depth FILE           also write a depth image (grey: near white, far black)
       --normals FILE         also write a normals image (|n| per channel)
       --depth-range NEAR,FAR distances mapped to white and black in depth images
@@ -363,7 +368,15 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             else if (mode == "depth") options.render.mode = RenderMode::Depth;
             else if (mode == "material") options.render.mode = RenderMode::Material;
             else if (mode == "cost") options.render.mode = RenderMode::Cost;
-            else usage_error("--mode must be shaded, normals, depth, material or cost, got '" + mode + "'");
+            else if (mode == "ao") options.render.mode = RenderMode::AmbientOcclusion;
+            else usage_error("--mode must be shaded, normals, depth, material, cost or ao, got '" + mode + "'");
+        } else if (arg == "--ao-samples") {
+            options.render.ao_samples = parse_positive_int(args.value_for(arg), arg, 4096);
+        } else if (arg == "--ao-distance") {
+            const std::string value = args.value_for(arg);
+            options.render.ao_distance = parse_number(value, arg);
+            if (!(options.render.ao_distance > 0) || !std::isfinite(options.render.ao_distance))
+                usage_error("--ao-distance must be a positive number, got " + value);
         } else if (arg == "--depth") {
             options.depth_path = args.value_for(arg);
         } else if (arg == "--normals") {

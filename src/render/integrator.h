@@ -26,14 +26,15 @@ struct RayCounts {
     uint64_t primary_hits = 0;  ///< camera rays that hit something
     uint64_t shadow = 0;        ///< towards lights
     uint64_t secondary = 0;     ///< reflected and transmitted
+    uint64_t occlusion = 0;     ///< ambient occlusion
     uint64_t nodes_visited = 0; ///< BVH nodes visited by camera rays (cost mode only)
     uint64_t truncated = 0;     ///< camera samples whose ray tree hit kMaxRaysPerSample
 
-    uint64_t total() const { return primary + shadow + secondary; }
+    uint64_t total() const { return primary + shadow + secondary + occlusion; }
     RayCounts& operator+=(const RayCounts& other);
 };
 
-/// The most shadow and secondary rays one camera sample may trace. A ray tree doubles with every
+/// The most shadow, secondary and occlusion rays one camera sample may trace. A ray tree doubles with every
 /// bounce where a surface both reflects and refracts, so this keeps a deep --bounces finite; the
 /// renderer warns when a sample reaches it.
 constexpr uint32_t kMaxRaysPerSample = 1u << 16;
@@ -61,7 +62,11 @@ struct Integrator {
     const Scene& scene;
     const RenderOptions& options;
     RadianceFunction radiance;
+    float ao_distance = 0;  ///< how far ambient-occlusion rays look (resolved from the options)
 };
+
+/// The integrator of the options' mode for the scene.
+Integrator make_integrator(const Scene& scene, const RenderOptions& options);
 
 /// The radiance function of a render mode (Shaded is the Whitted ray tracer; with 0 bounces and
 /// no shadows it is the course's ray caster).

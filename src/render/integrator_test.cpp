@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -334,6 +335,85 @@ TEST(WhittedTest, TransparentShadowsFilterTheLightByEverySurfaceCrossed) {
     intersect(ball, from_floor, 0, ball_floor);
     ASSERT_EQ(ball_floor.object, 0u);
     expect_vec_near(radiance_along(ball, filtered, from_floor, ball_floor), {0.25f, 0.0625f, 1});
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ambient occlusion.
+
+TEST(AmbientOcclusionTest, UnderACeilingTheOpenShareIsTheSquareOfHeightOverDistance) {
+    // A floor y = 0 under a ceiling y = h. A ray at angle θ from the normal meets the ceiling at
+    // h / cos θ, within reach D when cos θ > h/D; cosine-distributed, P(cos θ ≤ c) = c², so the
+    // share that escapes is (h/D)². With h = 1 and D = 2: 0.25; D = 4: 0.0625.
+    const Scene scene = build(scene_of(group({plane({0, 1, 0}, 0, 0), plane({0, -1, 0}, -1, 0)}),
+                                       {material({1, 1, 1})}, {0, 0, 0}, {0, 0, 0}));
+    for (const float distance : {2.0f, 4.0f}) {
+        RenderOptions options;
+        options.mode = RenderMode::AmbientOcclusion;
+        options.ao_distance = distance;
+        options.ao_samples = 4096;
+        RayCounts counts;
+        const Ray down{{0, 0.5f, 0}, {0, -1, 0}};
+        Hit hit;
+        intersect(scene, down, 0, hit);
+        ASSERT_EQ(hit.object, 0u);
+        const Vec3f grey = radiance_along(scene, options, down, hit, &counts);
+        const float expected = (1 / distance) * (1 / distance);
+        // 4096 rays: the standard error is √(p(1−p)/4096) ≤ 0.0068; allow 4 of them.
+        EXPECT_NEAR(grey.x, expected, 0.027f) << distance;
+        EXPECT_EQ(grey.x, grey.y);
+        EXPECT_EQ(grey.x, grey.z);
+        EXPECT_EQ(counts.occlusion, 4096u);
+    }
+}
+
+TEST(AmbientOcclusionTest, TheDefaultReachIsATenthOfTheSceneDiagonal) {
+    // Spheres at the origin and at (10, 0, 0), radius 1: the box is 12 × 2 × 2, diagonal √152.
+    const Scene spheres = build(scene_of(group({sphere({0, 0, 0}, 1, 0), sphere({10, 0, 0}, 1, 0)}),
+                                         {material({1, 1, 1})}, {0, 0, 0}, {0, 0, 0}));
+    RenderOptions options;
+    options.mode = RenderMode::AmbientOcclusion;
+    // (The boxes are padded by 1/65536 of their coordinates, so not exactly.)
+    EXPECT_NEAR(make_integrator(spheres, options).ao_distance, std::sqrt(152.0f) / 10, 1e-4f);
+    options.ao_distance = 3;
+    EXPECT_EQ(make_integrator(spheres, options).ao_distance, 3.0f);
+    // Planes alone have no size: the rays look without limit.
+    const Scene floor = build(scene_of(plane({0, 1, 0}, 0, 0), {material({1, 1, 1})}, {0, 0, 0}, {0, 0, 0}));
+    options.ao_distance = 0;
+    EXPECT_TRUE(std::isinf(make_integrator(floor, options).ao_distance));
+    // An open floor is fully open, whatever the samples say; a miss is black.
+    const Ray down{{0.3f, 2, 0.1f}, {0, -1, 0}};
+    Hit hit;
+    intersect(floor, down, 0, hit);
+    expect_vec_near(radiance_along(floor, options, down, hit), {1, 1, 1});
+    expect_vec_near(radiance_along(floor, options, {{0, 2, 0}, {0, 1, 0}}, Hit{}), {0, 0, 0});
+}
+
+TEST(AmbientOcclusionTest, TheImageIsTheSameOnAnyThreadsAndPacketsAndCountsEveryRay) {
+    SceneDesc desc = scene_of(group({plane({0, 1, 0}, -1, 0), sphere({0, 0, 0}, 1, 0), sphere({1.5f, -0.5f, 1}, 0.5f, 0)}),
+                              {material({1, 1, 1})}, {0, 0, 0}, {0, 0, 0});
+    desc.camera->width = 24;
+    desc.camera->height = 20;
+    const Scene scene = build(std::move(desc));
+    RenderOptions options;
+    options.mode = RenderMode::AmbientOcclusion;
+    options.threads = 1;
+    options.packet_isa = PacketIsa::None;
+    RenderStats reference_stats;
+    const ImageRgb8 reference = render_image_rgb8(scene, options, &reference_stats);
+    EXPECT_EQ(reference_stats.occlusion_rays, reference_stats.hits * 16);
+    EXPECT_EQ(reference_stats.rays, reference_stats.primary_rays + reference_stats.occlusion_rays);
+    options.threads = 3;
+    options.packet_isa = best_packet_isa();
+    options.tile_size = 5;
+    EXPECT_TRUE(render_image_rgb8(scene, options).rgb == reference.rgb);
+    // Somewhere (where the balls meet the floor) it is dark, elsewhere wholly open.
+    uint8_t darkest = 255, lightest = 0;
+    for (size_t i = 0; i < reference.rgb.size(); ++i) {
+        darkest = std::min(darkest, reference.rgb[i]);
+        lightest = std::max(lightest, reference.rgb[i]);
+    }
+    EXPECT_LT(darkest, 128);
+    EXPECT_EQ(lightest, 255);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -13,6 +13,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& other) {
     primary_hits += other.primary_hits;
     shadow += other.shadow;
     secondary += other.secondary;
+    occlusion += other.occlusion;
     nodes_visited += other.nodes_visited;
     truncated += other.truncated;
     return *this;
@@ -217,6 +218,39 @@ Vec3f material_radiance(const Integrator& integrator, const Ray& ray, const Hit&
     return finish(context, material_color(surface.material));
 }
 
+// Ambient occlusion: the share of `ao_samples` rays, cosine-distributed about the normal turned
+// towards the viewer, that travel `ao_distance` without meeting anything, as grey. A miss is black.
+Vec3f ambient_occlusion_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context) {
+    if (!hit.is_hit()) return finish(context, {});
+    const Scene& scene = integrator.scene;
+    const SurfacePoint surface = surface_at(scene, ray, hit);
+    record_surface(context, hit, surface);
+    const Vec3f normal = dot(surface.normal, ray.direction) > 0 ? -surface.normal : surface.normal;
+    const float travel_scale = ray_travel_scale(ray.origin, ray.direction, hit.t);
+    const int samples = std::max(1, integrator.options.ao_samples);
+    int open = 0;
+    for (int i = 0; i < samples; ++i) {
+        const Vec3f direction = sample_cosine_hemisphere(normal, context.sampler->next_2d());
+        if (!take_ray(context)) break;
+        ++context.counts->occlusion;
+        const Ray probe{offset_ray_origin(surface.position, normal, direction, travel_scale), direction};
+        const bool blocked = occluded(scene, probe, 0, integrator.ao_distance);
+        open += blocked ? 0 : 1;
+        if (context.tree) {
+            RayRecord record;
+            record.kind = RayKind::Occlusion;
+            record.parent = context.record;
+            record.origin = probe.origin;
+            record.direction = probe.direction;
+            record.t_max = integrator.ao_distance;
+            record.transmittance = record.color = blocked ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
+            context.tree->add(std::move(record));
+        }
+    }
+    const float grey = static_cast<float>(open) / static_cast<float>(samples);
+    return finish(context, {grey, grey, grey});
+}
+
 // Nodes visited on a fixed logarithmic scale (1 → dark blue, 4096 → white), so that crops of
 // one image share a scale and merge exactly.
 Vec3f cost_radiance(const Integrator&, const Ray&, const Hit&, TraceContext& context) {
@@ -236,8 +270,20 @@ RadianceFunction radiance_function_for(RenderMode mode) {
         case RenderMode::Depth: return depth_radiance;
         case RenderMode::Material: return material_radiance;
         case RenderMode::Cost: return cost_radiance;
+        case RenderMode::AmbientOcclusion: return ambient_occlusion_radiance;
     }
     return whitted_radiance;
+}
+
+Integrator make_integrator(const Scene& scene, const RenderOptions& options) {
+    Integrator integrator{scene, options, radiance_function_for(options.mode)};
+    integrator.ao_distance = options.ao_distance;
+    if (!(integrator.ao_distance > 0)) {
+        // A tenth of the scene's diagonal; with nothing bounded (planes only), no limit.
+        const float diagonal = scene.bounds.is_empty() ? INFINITY : length(scene.bounds.extent());
+        integrator.ao_distance = std::isfinite(diagonal) && diagonal > 0 ? diagonal / 10 : INFINITY;
+    }
+    return integrator;
 }
 
 const char* render_mode_name(RenderMode mode) {
@@ -247,6 +293,7 @@ const char* render_mode_name(RenderMode mode) {
         case RenderMode::Depth: return "depth";
         case RenderMode::Material: return "material";
         case RenderMode::Cost: return "cost";
+        case RenderMode::AmbientOcclusion: return "ao";
     }
     return "shaded";
 }
@@ -344,7 +391,7 @@ Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_l
 
 Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray& ray, const Hit& hit, RayCounts* counts,
                      RayTree* tree) {
-    const Integrator integrator{scene, options, radiance_function_for(options.mode)};
+    const Integrator integrator = make_integrator(scene, options);
     RayCounts local_counts;
     uint32_t budget = kMaxRaysPerSample;
     Sampler sampler(0, 0);

@@ -12,6 +12,7 @@ const char* ray_kind_name(RayKind kind) {
         case RayKind::Shadow: return "shadow";
         case RayKind::Reflected: return "reflected";
         case RayKind::Transmitted: return "transmitted";
+        case RayKind::Occlusion: return "occlusion";
     }
     return "camera";
 }
@@ -111,7 +112,8 @@ void write_ray(JsonWriter& json, const RayTree& tree, const std::vector<std::vec
     json.field("direction", ray.direction);
     json.field("t_min", ray.t_min);
     json.field("t_max", ray.t_max);
-    if (ray.kind != RayKind::Camera && ray.kind != RayKind::Shadow) {
+    const bool any_hit = ray.kind == RayKind::Shadow || ray.kind == RayKind::Occlusion;
+    if (ray.kind == RayKind::Reflected || ray.kind == RayKind::Transmitted) {
         json.field("multiplier", ray.multiplier);
         json.field("weight", ray.weight);
         json.field("index_of_refraction", ray.index_of_refraction);
@@ -124,7 +126,7 @@ void write_ray(JsonWriter& json, const RayTree& tree, const std::vector<std::vec
         json.integer_field("material", ray.material);
         json.field("point", ray.point);
         json.field("normal", ray.normal);
-        if (ray.kind != RayKind::Shadow) {
+        if (!any_hit) {
             json.field("shading_normal", ray.shading_normal);
             json.field("side", std::string(ray.back_face ? "back" : "front"));
         }
@@ -133,7 +135,7 @@ void write_ray(JsonWriter& json, const RayTree& tree, const std::vector<std::vec
         json.key("hit");
         json.null();
     }
-    if (ray.kind == RayKind::Shadow) {
+    if (any_hit) {
         json.field("transmittance", ray.transmittance);
         json.field("blocked", ray.transmittance == Vec3f{0, 0, 0});
     } else if (ray.hit && (!ray.lights.empty() || ray.local != Vec3f{})) {

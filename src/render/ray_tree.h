@@ -14,9 +14,9 @@
 
 namespace raycast {
 
-enum class RayKind : uint8_t { Camera, Shadow, Reflected, Transmitted };
+enum class RayKind : uint8_t { Camera, Shadow, Reflected, Transmitted, Occlusion };
 
-/// "camera", "shadow", "reflected" or "transmitted".
+/// "camera", "shadow", "reflected", "transmitted" or "occlusion" (ambient occlusion).
 const char* ray_kind_name(RayKind kind);
 
 /// One light's share of the local shading at a hit.

@@ -106,14 +106,11 @@ public:
     Renderer(const Scene& scene, const RenderOptions& options)
         : scene_(scene),
           options_(options),
-          integrator_{scene, options, radiance_function_for(options.mode)},
+          integrator_(make_integrator(scene, options)),
           normals_{scene, options, radiance_function_for(RenderMode::Normals)},
-          // Packets hold one ray per pixel; samples and lenses scatter rays, and the cost mode
-          // counts nodes per ray, so those trace ray by ray.
-          tracer_(scene, options.samples_per_pixel == 1 && scene.camera.lens_radius <= 0 &&
-                                 options.mode != RenderMode::Cost
-                             ? options.packet_isa
-                             : PacketIsa::None),
+          // A packet holds sample s of each pixel of a block: neighbouring rays, coherent with or
+          // without jitter or a lens. The cost mode counts nodes per ray, so it traces ray by ray.
+          tracer_(scene, options.mode != RenderMode::Cost ? options.packet_isa : PacketIsa::None),
           frame_(frame_of(scene.camera, options)),
           spp_(std::max(1, options.samples_per_pixel)),
           packet_width_(tracer_.lanes()) {}
@@ -147,6 +144,7 @@ public:
             stats->primary_rays = counts.primary;
             stats->shadow_rays = counts.shadow;
             stats->secondary_rays = counts.secondary;
+            stats->occlusion_rays = counts.occlusion;
             stats->hits = counts.primary_hits;
             stats->nodes_visited = counts.nodes_visited;
             stats->truncated_samples = counts.truncated;
@@ -338,7 +336,7 @@ PixelExplanation explain_pixel(const Scene& scene, const RenderOptions& options,
     explanation.transparent_shadows = options.transparent_shadows;
     const int camera_y = camera.height - 1 - y;  // the camera counts rows from the bottom
     const uint32_t index = pixel_index(camera, x, camera_y);
-    const Integrator integrator{scene, options, radiance_function_for(options.mode)};
+    const Integrator integrator = make_integrator(scene, options);
     const int spp = explanation.samples_per_pixel;
     Vec3f sum;
     for (int s = 0; s < spp; ++s) {

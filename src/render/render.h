@@ -20,6 +20,7 @@ struct RenderStats {
     uint64_t primary_rays = 0;    ///< camera rays
     uint64_t shadow_rays = 0;
     uint64_t secondary_rays = 0;  ///< reflected and transmitted
+    uint64_t occlusion_rays = 0;  ///< ambient occlusion
     uint64_t hits = 0;            ///< camera rays that hit something
     uint64_t nodes_visited = 0;   ///< BVH nodes (leaves) visited by camera rays (cost mode)
     uint64_t truncated_samples = 0;  ///< camera samples whose ray tree reached kMaxRaysPerSample

@@ -19,9 +19,10 @@ enum class RenderMode {
     Depth,     ///< clamp((far − t)/(far − near)) as grey; background black (MIT 6.837's depth image)
     Material,  ///< a distinct flat colour per material
     Cost,      ///< BVH nodes visited, as a heat map
+    AmbientOcclusion,  ///< the share of cosine-distributed rays from each hit that escape, as grey
 };
 
-/// "shaded", "normals", "depth", "material" or "cost".
+/// "shaded", "normals", "depth", "material", "cost" or "ao".
 const char* render_mode_name(RenderMode mode);
 
 /// A window of the image in pixel coordinates with y = 0 at the top (as image viewers number
@@ -45,6 +46,10 @@ struct RenderOptions {
     /// ... and while the path's weight, the product of the magnitudes of the reflective and
     /// transparent colours along it, is at least this.
     float weight_cutoff = 0.001f;
+    /// Ambient occlusion: rays per camera sample's hit, and how far they look (0: a tenth of the
+    /// diagonal of the scene's bounding box).
+    int ao_samples = 16;
+    float ao_distance = 0;
     float depth_near = 0, depth_far = 0;  ///< Depth mode; both 0: the range of the visible hits
     /// How primary rays are traced: SIMD packets of an instruction set, or None for one ray at a
     /// time. The image is the same either way. Default: the best this CPU runs.

@@ -245,31 +245,37 @@ TEST(RenderTest, EveryPacketIsaGivesTheSameImageAsSingleRays) {
     EXPECT_TRUE(packet_isa_available(PacketIsa::None));
     EXPECT_TRUE(packet_isa_available(PacketIsa::Portable));
     EXPECT_TRUE(packet_isa_available(best_packet_isa()));
-    const Scene scenes[3] = {mesh_scene(), spheres_scene(), transformed_scene()};
-    const char* const names[3] = {"meshes", "spheres", "transformed"};
-    for (int k = 0; k < 3; ++k) {
+    Scene scenes[4] = {mesh_scene(), spheres_scene(), transformed_scene(), mesh_scene()};
+    // The fourth sees through a thin lens: every ray of a packet has its own origin.
+    scenes[3].camera.lens_radius = 0.15f;
+    scenes[3].camera.focus_distance = 8;
+    const char* const names[4] = {"meshes", "spheres", "transformed", "meshes through a lens"};
+    for (int k = 0; k < 4; ++k)
+    for (const int spp : {1, 4}) {
         const Scene& scene = scenes[k];
         for (RenderMode mode : {RenderMode::Shaded, RenderMode::Normals, RenderMode::Depth, RenderMode::Material}) {
             RenderOptions single = options_with(PacketIsa::None);
             single.mode = mode;
+            single.samples_per_pixel = spp;
             RenderStats stats;
             const Image reference = render_image(scene, single, &stats);
             EXPECT_EQ(stats.traversal, "single-ray");
             // The scene is really in view: a good share of the pixels hit something.
-            EXPECT_GT(stats.hits, stats.rays / 4) << names[k];
-            EXPECT_LT(stats.hits, stats.rays) << names[k];
+            EXPECT_GT(stats.hits, stats.primary_rays / 4) << names[k];
+            EXPECT_LT(stats.hits, stats.primary_rays) << names[k];
             for (PacketIsa isa : isas) {
                 if (isa == PacketIsa::None) continue;
                 RenderOptions packets = options_with(isa);
                 packets.mode = mode;
+                packets.samples_per_pixel = spp;
                 RenderStats packet_stats;
                 const Image image = render_image(scene, packets, &packet_stats);
                 EXPECT_EQ(packet_stats.traversal, std::string("packet-") + packet_isa_name(isa));
                 EXPECT_EQ(packet_stats.hits, stats.hits);
                 EXPECT_TRUE(same_bytes(image, reference))
-                    << names[k] << " " << packet_isa_name(isa) << " mode " << static_cast<int>(mode);
+                    << names[k] << " " << packet_isa_name(isa) << " mode " << static_cast<int>(mode) << " spp " << spp;
                 EXPECT_TRUE(same_floats(image, reference))
-                    << names[k] << " " << packet_isa_name(isa) << " mode " << static_cast<int>(mode);
+                    << names[k] << " " << packet_isa_name(isa) << " mode " << static_cast<int>(mode) << " spp " << spp;
             }
         }
     }

@@ -44,6 +44,22 @@ inline Vec2f lens_sample(uint32_t pixel_index, int s) {
     return {unit_float(hash32(seed)), unit_float(hash32(seed + 1))};
 }
 
+/// A direction about the unit `normal` with density cos θ / π (the cosine-weighted hemisphere),
+/// from u in [0, 1)²: Malley's method, a uniform point on the disk (r = √u₀, φ = 2πu₁) lifted to
+/// the hemisphere, in the orthonormal basis of Duff et al. (2017) around the normal.
+inline Vec3f sample_cosine_hemisphere(Vec3f normal, Vec2f u) {
+    const float r = std::sqrt(u.x);
+    const float phi = 6.28318530717958648f * u.y;
+    const float x = r * std::cos(phi), y = r * std::sin(phi);
+    const float z = std::sqrt(std::fmax(0.0f, 1 - u.x));
+    const float sign = std::copysign(1.0f, normal.z);
+    const float a = -1 / (sign + normal.z);
+    const float b = normal.x * normal.y * a;
+    const Vec3f tangent{1 + sign * normal.x * normal.x * a, sign * b, -sign * normal.x};
+    const Vec3f bitangent{b, sign + normal.y * normal.y * a, -normal.y};
+    return tangent * x + bitangent * y + normal * z;
+}
+
 /// The random numbers an integrator draws while it traces one camera sample (directions for
 /// ambient occlusion, paths later): the i-th number of sample s of a pixel is a hash of the three,
 /// independent of the pixel's position offsets and lens point above.

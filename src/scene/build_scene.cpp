@@ -225,6 +225,7 @@ private:
     }
 
     void build_instance_bvh() {
+        for (const BvhPrimitive& primitive : bounds_) scene_.bounds.grow(primitive.bounds);
         BvhBuildOptions bvh_options;
         bvh_options.max_leaf_size = 2;
         bvh_options.threads = options_.threads;

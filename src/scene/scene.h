@@ -64,6 +64,7 @@ struct Scene {
     std::vector<Mat4> object_from_world;  ///< inverse transforms, M⁻¹, of instances that have one
 
     std::vector<Instance> instances;
+    Bounds3f bounds;  ///< of every bounded object in world space (planes are not); empty if none
     std::vector<uint32_t> plane_instances;  ///< planes are unbounded: tested outside the BVH
     Bvh instance_bvh;                       ///< over the bounded instances; prim ids are instance ids
 
