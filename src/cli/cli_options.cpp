@@ -16,6 +16,7 @@ std::string usage_text() {
                [-shade_back] [-specular_fix] [-shadows] [-bounces N] [-weight W]
                [-transparent_shadows]
        raycast explain SCENE X Y [options]
+       raycast view SCENE [options] [--port N] [--host ADDR]
        raycast compare A B [--diff DIFF]
        raycast merge -o OUTPUT PIECE...
 
@@ -67,6 +68,10 @@ Options:
                              widest this CPU runs. The image is the same with every choice.
       --no-packets           the same as --simd none
 
+view serves a live viewer on http://127.0.0.1:PORT/ (--port 0, the default, picks a free port;
+--host another address, to be reachable from elsewhere): the render, refined while nothing
+changes and redone when the scene file or a mesh changes; a movable camera; the ray tree of any
+pixel (docs/viewer.md). It runs until Ctrl-C.
 explain prints, as JSON, the tree of rays behind pixel (X, Y) (row 0 at the top, as --crop):
 every camera, shadow, reflected and transmitted ray, what it hit and the shading terms, with the
 same options as a render (docs/explain.md).
@@ -222,6 +227,18 @@ void check_explain_options(CliOptions& options, const std::vector<std::string>& 
     options.explain_y = parse_count(positional[first + 1], "explain Y", kMaxImageSide);
 }
 
+// view SCENE, or MIT's -input SCENE; the page shows the image, so nothing is written.
+void check_view_options(CliOptions& options, const std::vector<std::string>& positional) {
+    if (!options.output_path.empty() || !options.depth_path.empty() || !options.normals_path.empty())
+        usage_error("view shows the image in a browser and writes none: drop -output, -depth and -normals");
+    if (options.render.has_crop) usage_error("view shows the whole image: drop --crop");
+    const size_t wanted = options.mit_form ? 0 : 1;
+    if (positional.size() != wanted)
+        usage_error(options.mit_form ? "unexpected argument '" + positional[0] + "'"
+                                     : "view needs one scene: raycast view SCENE [options]");
+    if (!options.mit_form) options.scene_path = positional[0];
+}
+
 CropWindow parse_crop(const std::string& text) {
     const std::vector<std::string> parts = split(text, ',');
     if (parts.size() != 4) usage_error("--crop needs X0,Y0,X1,Y1, got '" + text + "'");
@@ -272,8 +289,10 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
     }
 
     const bool explain = argc >= 2 && std::strcmp(argv[1], "explain") == 0;
+    const bool view = argc >= 2 && std::strcmp(argv[1], "view") == 0;
     if (explain) options.command = CliOptions::Command::Explain;
-    Arguments args(argc, argv, explain ? 2 : 1);
+    if (view) options.command = CliOptions::Command::View;
+    Arguments args(argc, argv, explain || view ? 2 : 1);
     std::vector<std::string> positional;
     ConventionChoices choices;
     while (!args.done()) {
@@ -415,6 +434,11 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             if (!packet_isa_available(isa))
                 usage_error("--simd " + name + " is not available on this CPU or in this build");
             options.render.packet_isa = isa;
+        } else if (view && arg == "--port") {
+            options.view_port = parse_count(args.value_for(arg), arg, 65535);
+        } else if (view && arg == "--host") {
+            options.view_host = args.value_for(arg);
+            if (options.view_host.empty()) usage_error("--host needs an address");
         } else if (arg.size() > 1 && arg[0] == '-' && arg != "-") {
             usage_error("unknown option '" + arg + "'");
         } else {
@@ -423,9 +447,12 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
     }
     if (explain)
         check_explain_options(options, positional);
+    else if (view)
+        check_view_options(options, positional);
     else
         check_render_options(options, positional);
     options.conventions = chosen_conventions(choices, options.mit_form);
+    options.mit_conventions = choices.name ? std::strcmp(choices.name, "mit6837") == 0 : options.mit_form;
     options.fov_given = choices.fov_given;
     return options;
 }

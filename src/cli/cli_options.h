@@ -20,7 +20,7 @@ public:
 };
 
 struct CliOptions {
-    enum class Command { Render, Explain, Compare, Merge, Help, Version };
+    enum class Command { Render, Explain, View, Compare, Merge, Help, Version };
     Command command = Command::Render;
 
     // render
@@ -34,6 +34,7 @@ struct CliOptions {
     bool stats = false;
     bool quiet = false;
     Conventions conventions;
+    bool mit_conventions = false;  ///< the conventions are MIT 6.837's (else the course's)
     bool fov_given = false;     ///< --fov was given (else the conventions' own reading, noted when it stretches)
     bool allow_missing_meshes = false;  ///< a mesh file that cannot be found is a warning, not an error
     RenderOptions render;       ///< mode, samples, shadows, crop, depth range, packets, tile size
@@ -43,6 +44,10 @@ struct CliOptions {
 
     // explain
     int explain_x = 0, explain_y = 0;  ///< the pixel, row 0 at the top
+
+    // view
+    int view_port = 0;                  ///< 0: any free port
+    std::string view_host = "127.0.0.1";
 
     // compare
     std::vector<std::string> inputs;  ///< compare: A B; merge: the pieces

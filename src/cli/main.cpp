@@ -24,6 +24,7 @@
 #include "scene/build_scene.h"
 #include "scene/intersect_packet.h"
 #include "sceneio/load_scene.h"
+#include "view/view_server.h"
 
 #ifndef RAYCAST_VERSION
 #define RAYCAST_VERSION "dev"
@@ -102,16 +103,6 @@ private:
     std::atomic<bool> shown_{false};
 };
 
-// Focus a thin lens on whatever the image centre sees (or 1 unit away if it sees nothing).
-float auto_focus_distance(const Scene& scene) {
-    const Camera& camera = scene.camera;
-    const Ray ray = camera_ray(camera, camera.cx, camera.cy);
-    Hit hit;
-    intersect(scene, ray, camera.t_min, hit);
-    if (!hit.is_hit() || !(hit.t > 0)) return 1.0f;
-    return hit.t * dot(ray.direction, camera.direction);
-}
-
 // A scene loaded and built as the options say, with the notes and warnings a user should see.
 struct LoadedScene {
     Scene scene;
@@ -152,7 +143,8 @@ LoadedScene load_and_build(const CliOptions& options, int threads) {
     Scene& scene = loaded.scene;
     if (options.aperture > 0) {
         scene.camera.lens_radius = options.aperture / 2;
-        scene.camera.focus_distance = options.has_focus_distance ? options.focus_distance : auto_focus_distance(scene);
+        scene.camera.focus_distance =
+            options.has_focus_distance ? options.focus_distance : auto_focus_distance(scene, scene.camera);
     }
     if (options.quiet) return loaded;
     const Camera& camera = scene.camera;
@@ -253,6 +245,52 @@ int run_explain(const CliOptions& options) {
     return 0;
 }
 
+bool is_loopback(const std::string& host) {
+    return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+}
+
+int run_view(const CliOptions& options) {
+    if (!view_server_available())
+        throw InputError("raycast view",
+                         "this raycast was built without cpp-httplib, which the viewer needs: install it "
+                         "(Debian/Ubuntu: sudo apt-get install libcpp-httplib-dev pkg-config) and rebuild");
+    const int threads = options.threads > 0 ? options.threads : hardware_threads();
+    ViewSettings settings;
+    settings.scene_path = options.scene_path;
+    settings.load.threads = threads;
+    settings.load.allow_missing_meshes = options.allow_missing_meshes;
+    settings.mit_conventions = options.mit_conventions;
+    settings.conventions = options.conventions;
+    settings.width = options.width;
+    settings.height = options.height;
+    settings.render = options.render;
+    settings.render.threads = threads;
+    settings.aperture = options.aperture;
+    settings.focus_distance = options.has_focus_distance ? options.focus_distance : 0;
+    ViewSession session(settings);
+    session.reload_if_changed();
+    if (!options.quiet) {
+        for (const std::string& note : options.notes) std::fprintf(stderr, "raycast: note: %s\n", note.c_str());
+        print_diagnostics(session.diagnostics());
+        if (!is_loopback(options.view_host))
+            std::fprintf(stderr,
+                         "raycast: warning: listening on %s, not only on this machine: anyone who can reach it can see "
+                         "the scene and make it render\n",
+                         options.view_host.c_str());
+    }
+    ViewServerOptions server;
+    server.host = options.view_host;
+    server.port = options.view_port;
+    run_view_server(session, server, [&](const std::string& url) {
+        // The URL alone on stdout, for scripts; the rest for people, on stderr.
+        std::printf("%s\n", url.c_str());
+        std::fflush(stdout);
+        if (!options.quiet)
+            std::fprintf(stderr, "raycast: viewing %s at %s (Ctrl-C to stop)\n", options.scene_path.c_str(), url.c_str());
+    });
+    return 0;
+}
+
 int run_compare(const CliOptions& options) {
     const ImageRgb8 a = read_image(options.inputs[0]);
     const ImageRgb8 b = read_image(options.inputs[1]);
@@ -309,6 +347,8 @@ int run(int argc, char** argv) {
                 return run_render(options);
             case CliOptions::Command::Explain:
                 return run_explain(options);
+            case CliOptions::Command::View:
+                return run_view(options);
         }
     } catch (const UsageError& error) {
         std::fprintf(stderr, "raycast: usage error: %s\nTry 'raycast --help' for more information.\n", error.what());

@@ -1,8 +1,9 @@
 #include "render/ray_tree.h"
 
+#include "base/json_writer.h"
+
 #include <cmath>
 #include <cstdio>
-#include <initializer_list>
 
 namespace raycast {
 
@@ -19,102 +20,23 @@ const char* ray_kind_name(RayKind kind) {
 
 namespace {
 
-// Writes JSON with two-space indentation; numbers as the shortest decimal that reads back as the
-// same float (%.9g always does), and infinity or NaN, which JSON cannot hold, as null.
-class JsonWriter {
-public:
-    std::string take() { return std::move(out_); }
-
-    void open(char bracket) {
-        out_ += bracket;
-        first_.push_back(true);
-    }
-    void close(char bracket) {
-        const bool empty = first_.back();
-        first_.pop_back();
-        if (!empty) newline();
-        out_ += bracket;
-    }
-    void key(const char* name) {
-        item();
-        out_ += '"';
-        out_ += name;
-        out_ += "\": ";
-    }
-    // Before a value in an array.
-    void item() {
-        if (!first_.back()) out_ += ',';
-        first_.back() = false;
-        newline();
-    }
-
-    void number(double x) {
-        if (!std::isfinite(x)) {
-            out_ += "null";
-            return;
-        }
-        char text[32];
-        std::snprintf(text, sizeof text, "%.9g", x);
-        out_ += text;
-    }
-    void integer(long long x) { out_ += std::to_string(x); }
-    void null() { out_ += "null"; }
-    // A short array on one line.
-    void inline_numbers(std::initializer_list<double> values) {
-        out_ += '[';
-        bool first = true;
-        for (const double v : values) {
-            if (!first) out_ += ", ";
-            first = false;
-            number(v);
-        }
-        out_ += ']';
-    }
-    void boolean(bool b) { out_ += b ? "true" : "false"; }
-    void vec(Vec3f v) { inline_numbers({v.x, v.y, v.z}); }
-    void string(const std::string& s) {
-        out_ += '"';
-        for (const char c : s) {
-            if (c == '"' || c == '\\') out_ += '\\';
-            if (static_cast<unsigned char>(c) < 0x20) {
-                char escaped[8];
-                std::snprintf(escaped, sizeof escaped, "\\u%04x", c);
-                out_ += escaped;
-                continue;
-            }
-            out_ += c;
-        }
-        out_ += '"';
-    }
-
-    void field(const char* name, double x) { key(name), number(x); }
-    void field(const char* name, Vec3f v) { key(name), vec(v); }
-    void field(const char* name, bool b) { key(name), boolean(b); }
-    void field(const char* name, const std::string& s) { key(name), string(s); }
-    void integer_field(const char* name, long long x) { key(name), integer(x); }
-
-private:
-    void newline() {
-        out_ += '\n';
-        out_.append(2 * first_.size(), ' ');
-    }
-
-    std::string out_;
-    std::vector<bool> first_;  // per open bracket: nothing written in it yet
-};
+void vec_field(JsonWriter& json, const char* name, Vec3f v) {
+    json.key(name);
+    json.inline_numbers({v.x, v.y, v.z});
+}
 
 void write_ray(JsonWriter& json, const RayTree& tree, const std::vector<std::vector<int>>& children, int index) {
     const RayRecord& ray = tree.rays[static_cast<size_t>(index)];
     json.open('{');
     json.field("kind", std::string(ray_kind_name(ray.kind)));
     json.integer_field("depth", ray.depth);
-    json.field("origin", ray.origin);
-    json.field("direction", ray.direction);
+    vec_field(json, "origin", ray.origin);
+    vec_field(json, "direction", ray.direction);
     json.field("t_min", ray.t_min);
     json.field("t_max", ray.t_max);
     const bool any_hit = ray.kind == RayKind::Shadow || ray.kind == RayKind::Occlusion;
     if (ray.kind == RayKind::Reflected || ray.kind == RayKind::Transmitted) {
-        json.field("multiplier", ray.multiplier);
+        vec_field(json, "multiplier", ray.multiplier);
         json.field("weight", ray.weight);
         json.field("index_of_refraction", ray.index_of_refraction);
     }
@@ -124,10 +46,10 @@ void write_ray(JsonWriter& json, const RayTree& tree, const std::vector<std::vec
         json.field("t", ray.t);
         json.integer_field("object", ray.object);
         json.integer_field("material", ray.material);
-        json.field("point", ray.point);
-        json.field("normal", ray.normal);
+        vec_field(json, "point", ray.point);
+        vec_field(json, "normal", ray.normal);
         if (!any_hit) {
-            json.field("shading_normal", ray.shading_normal);
+            vec_field(json, "shading_normal", ray.shading_normal);
             json.field("side", std::string(ray.back_face ? "back" : "front"));
         }
         json.close('}');
@@ -136,36 +58,36 @@ void write_ray(JsonWriter& json, const RayTree& tree, const std::vector<std::vec
         json.null();
     }
     if (any_hit) {
-        json.field("transmittance", ray.transmittance);
+        vec_field(json, "transmittance", ray.transmittance);
         json.field("blocked", ray.transmittance == Vec3f{0, 0, 0});
     } else if (ray.hit && (!ray.lights.empty() || ray.local != Vec3f{})) {
         json.key("shading");
         json.open('{');
-        json.field("ambient", ray.ambient);
+        vec_field(json, "ambient", ray.ambient);
         json.key("lights");
         json.open('[');
         for (const LightTerm& light : ray.lights) {
             json.item();
             json.open('{');
             json.integer_field("light", light.light);
-            json.field("to_light", light.to_light);
+            vec_field(json, "to_light", light.to_light);
             json.field("distance", light.distance);
-            json.field("arriving", light.arriving);
-            json.field("transmittance", light.transmittance);
-            json.field("diffuse", light.diffuse);
-            json.field("specular", light.specular);
-            json.field("contribution", light.contribution);
+            vec_field(json, "arriving", light.arriving);
+            vec_field(json, "transmittance", light.transmittance);
+            vec_field(json, "diffuse", light.diffuse);
+            vec_field(json, "specular", light.specular);
+            vec_field(json, "contribution", light.contribution);
             json.close('}');
         }
         json.close(']');
-        json.field("local", ray.local);
-        json.field("reflected", ray.reflected);
-        json.field("transmitted", ray.transmitted);
+        vec_field(json, "local", ray.local);
+        vec_field(json, "reflected", ray.reflected);
+        vec_field(json, "transmitted", ray.transmitted);
         json.field("total_internal_reflection", ray.total_internal_reflection);
         json.close('}');
     }
     if (!ray.note.empty()) json.field("note", ray.note);
-    json.field("color", ray.color);
+    vec_field(json, "color", ray.color);
     json.key("children");
     json.open('[');
     for (const int child : children[static_cast<size_t>(index)]) {
@@ -186,13 +108,28 @@ std::string explanation_json(const PixelExplanation& e) {
     json.integer_field("y", e.y);
     json.key("image_size");
     json.inline_numbers({double(e.width), double(e.height)});
+    json.key("camera");
+    json.open('{');
+    const Camera& c = e.camera;
+    json.field("projection", std::string(c.projection == Camera::Projection::Perspective ? "perspective" : "orthographic"));
+    vec_field(json, "center", c.center);
+    vec_field(json, "direction", c.direction);
+    vec_field(json, "horizontal", c.horizontal);
+    vec_field(json, "up", c.up);
+    json.field("fx", c.fx);
+    json.field("fy", c.fy);
+    json.field("cx", c.cx);
+    json.field("cy", c.cy);
+    json.field("pixel_offset", c.pixel_offset);
+    json.field("lens_radius", c.lens_radius);
+    json.close('}');
     json.field("mode", e.mode);
     json.integer_field("samples_per_pixel", e.samples_per_pixel);
     json.integer_field("bounces", e.bounces);
     json.field("weight_cutoff", e.weight_cutoff);
     json.field("shadows", e.shadows);
     json.field("transparent_shadows", e.transparent_shadows);
-    json.field("color", e.color);
+    vec_field(json, "color", e.color);
     json.key("rgb8");
     json.inline_numbers({double(e.rgb8[0]), double(e.rgb8[1]), double(e.rgb8[2])});
     json.key("samples");

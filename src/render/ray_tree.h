@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "math/vec.h"
+#include "scene/camera.h"
 
 namespace raycast {
 
@@ -85,6 +86,7 @@ struct PixelExplanation {
     std::string mode;           ///< the render mode's name
     int x = 0, y = 0;           ///< as asked: column, row with row 0 at the top
     int width = 0, height = 0;  ///< the image
+    Camera camera;              ///< what the rays came through, to project points into the image
     int samples_per_pixel = 1;
     int bounces = 0;
     float weight_cutoff = 0;

@@ -52,7 +52,7 @@ Vec3f shade_camera_sample(const Integrator& integrator, uint32_t index, int s, c
         RayRecord record;
         record.origin = ray.origin;
         record.direction = ray.direction;
-        record.t_min = integrator.scene.camera.t_min;
+        record.t_min = render_camera(integrator.scene, integrator.options).t_min;
         record.t_max = INFINITY;
         context.record = tree->add(std::move(record));
     }
@@ -111,7 +111,8 @@ public:
           // A packet holds sample s of each pixel of a block: neighbouring rays, coherent with or
           // without jitter or a lens. The cost mode counts nodes per ray, so it traces ray by ray.
           tracer_(scene, options.mode != RenderMode::Cost ? options.packet_isa : PacketIsa::None),
-          frame_(frame_of(scene.camera, options)),
+          camera_(render_camera(scene, options)),
+          frame_(frame_of(camera_, options)),
           spp_(std::max(1, options.samples_per_pixel)),
           packet_width_(tracer_.lanes()) {}
 
@@ -128,7 +129,13 @@ public:
         const int threads = std::max(1, options_.threads);
         std::vector<WorkerState> workers(static_cast<size_t>(threads));
         std::atomic<size_t> tiles_done{0};
+        std::atomic<bool> stopped{false};
         parallel_for(tile_count, threads, [&](size_t index, int worker) {
+            if (stopped.load(std::memory_order_relaxed)) return;
+            if (options_.cancelled && options_.cancelled()) {
+                stopped = true;
+                return;
+            }
             const int tx = static_cast<int>(index % static_cast<size_t>(tiles_x));
             const int ty = static_cast<int>(index / static_cast<size_t>(tiles_x));
             render_tile(tx * tile, ty * tile, std::min(frame_.width, (tx + 1) * tile),
@@ -149,6 +156,7 @@ public:
             stats->nodes_visited = counts.nodes_visited;
             stats->truncated_samples = counts.truncated;
             stats->milliseconds = timer.elapsed_ms();
+            stats->cancelled = stopped;
             stats->threads = threads;
             stats->traversal = tracer_.isa() == PacketIsa::None ? std::string("single-ray")
                                                                 : std::string("packet-") + packet_isa_name(tracer_.isa());
@@ -174,7 +182,7 @@ private:
         // Blocks of pixels small enough to form one packet of coherent rays.
         const int block_w = packet_width_ >= 16 ? 4 : (packet_width_ >= 4 ? 2 : 1);
         const int block_h = packet_width_ / block_w > 0 ? packet_width_ / block_w : 1;
-        const Camera& camera = scene_.camera;
+        const Camera& camera = camera_;
         Ray rays[kMaxPacketLanes];
         Hit hits[kMaxPacketLanes];
         uint64_t nodes[kMaxPacketLanes];
@@ -249,13 +257,13 @@ private:
 
     void trace_camera_rays(const Ray* rays, Hit* hits, uint64_t* nodes, int count) const {
         if (packet_width_ > 1) {
-            tracer_.intersect(rays, count, scene_.camera.t_min, hits);
+            tracer_.intersect(rays, count, camera_.t_min, hits);
             return;
         }
         const bool count_nodes = options_.mode == RenderMode::Cost;
         for (int k = 0; k < count; ++k) {
             TraceCounters counters;
-            intersect(scene_, rays[k], scene_.camera.t_min, hits[k], count_nodes ? &counters : nullptr);
+            intersect(scene_, rays[k], camera_.t_min, hits[k], count_nodes ? &counters : nullptr);
             nodes[k] = counters.nodes_visited;
         }
     }
@@ -265,6 +273,7 @@ private:
     const Integrator integrator_;
     const Integrator normals_;  // the normals image made in the same pass
     PacketTracer tracer_;
+    const Camera& camera_;
     Frame frame_;
     int spp_ = 1;
     int packet_width_ = 1;
@@ -321,14 +330,23 @@ FrameImages render_frame_rgb8(const Scene& scene, const RenderOptions& options, 
     return images;
 }
 
+float auto_focus_distance(const Scene& scene, const Camera& camera) {
+    const Ray ray = camera_ray(camera, camera.cx, camera.cy);
+    Hit hit;
+    intersect(scene, ray, camera.t_min, hit);
+    if (!hit.is_hit() || !(hit.t > 0)) return 1.0f;
+    return hit.t * dot(ray.direction, camera.direction);
+}
+
 PixelExplanation explain_pixel(const Scene& scene, const RenderOptions& options, int x, int y) {
-    const Camera& camera = scene.camera;
+    const Camera& camera = render_camera(scene, options);
     PixelExplanation explanation;
     explanation.mode = render_mode_name(options.mode);
     explanation.x = x;
     explanation.y = y;
     explanation.width = camera.width;
     explanation.height = camera.height;
+    explanation.camera = camera;
     explanation.samples_per_pixel = std::max(1, options.samples_per_pixel);
     explanation.bounces = options.bounces;
     explanation.weight_cutoff = options.weight_cutoff;

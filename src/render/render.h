@@ -25,6 +25,7 @@ struct RenderStats {
     uint64_t nodes_visited = 0;   ///< BVH nodes (leaves) visited by camera rays (cost mode)
     uint64_t truncated_samples = 0;  ///< camera samples whose ray tree reached kMaxRaysPerSample
     double milliseconds = 0;
+    bool cancelled = false;       ///< options.cancelled stopped it: the image is incomplete
     int threads = 1;
     std::string traversal;        ///< which path traced the primary rays, e.g. "packet-avx512"
 };
@@ -52,6 +53,10 @@ struct FrameImages {
 /// One pass over the camera rays that makes every requested image.
 FrameImages render_frame_rgb8(const Scene& scene, const RenderOptions& options, const FrameRequest& request,
                               RenderStats* stats = nullptr);
+
+/// The distance, along the view direction, to what the centre of `camera`'s image sees (1 if it
+/// sees nothing): where a thin lens focuses by default.
+float auto_focus_distance(const Scene& scene, const Camera& camera);
 
 /// Re-traces pixel (x, y) of the full frame (row 0 at the top, as --crop counts) alone and records
 /// every ray: its colour and bytes are exactly those of the rendered image.

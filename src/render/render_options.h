@@ -5,6 +5,7 @@
 #include <functional>
 
 #include "scene/intersect_packet.h"
+#include "scene/scene.h"
 
 namespace raycast {
 
@@ -58,6 +59,17 @@ struct RenderOptions {
     CropWindow crop;      ///< render only this window (the image has the window's size)
     /// Called now and then from the rendering threads with the fraction done (0..1).
     std::function<void(double)> progress;
+    /// Asked before each tile; once it returns true the rest of the image is left undone and
+    /// RenderStats::cancelled is set (the viewer drops a render when a newer one is asked for).
+    std::function<bool()> cancelled;
+    /// Renders through this camera instead of the scene's (the viewer's orbiting camera); it
+    /// must outlive the render.
+    const Camera* camera = nullptr;
 };
+
+/// The camera a render with these options looks through.
+inline const Camera& render_camera(const Scene& scene, const RenderOptions& options) {
+    return options.camera ? *options.camera : scene.camera;
+}
 
 }  // namespace raycast

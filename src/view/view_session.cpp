@@ -1,0 +1,483 @@
+#include "view/view_session.h"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <utility>
+
+#include "base/json_writer.h"
+#include "base/parallel.h"
+#include "base/parse_number.h"
+#include "image/image_io.h"
+#include "render/render.h"
+#include "scene/build_scene.h"
+
+namespace raycast {
+
+namespace {
+
+// The most a request may ask for: enough for any screen, and a bound on memory and time.
+constexpr int kMaxViewSide = 4096;
+constexpr int kMaxViewSamples = 256;
+constexpr int kDefaultViewSide = 400;  // for a camera that gives no size (MIT's scenes)
+
+ViewResponse text_response(int status, std::string body) {
+    if (body.empty() || body.back() != '\n') body += '\n';
+    return {status, "text/plain; charset=utf-8", std::move(body)};
+}
+
+ViewResponse json_response(std::string body) { return {200, "application/json", std::move(body)}; }
+
+bool parse_whole_float(const std::string& text, float& value) {
+    const char* first = text.c_str();
+    const char* last = first + text.size();
+    const NumberResult result = parse_float(first, last, value);
+    return result.status == NumberStatus::Ok && result.end == last && std::isfinite(value);
+}
+
+bool parse_whole_int(const std::string& text, int64_t& value) {
+    const char* first = text.c_str();
+    const char* last = first + text.size();
+    const NumberResult result = parse_int(first, last, value);
+    return result.status == NumberStatus::Ok && result.end == last;
+}
+
+// "x,y,z" with three finite numbers.
+bool parse_vec3(const std::string& text, Vec3f& v) {
+    const size_t a = text.find(','), b = a == std::string::npos ? a : text.find(',', a + 1);
+    if (b == std::string::npos || text.find(',', b + 1) != std::string::npos) return false;
+    return parse_whole_float(text.substr(0, a), v.x) && parse_whole_float(text.substr(a + 1, b - a - 1), v.y) &&
+           parse_whole_float(text.substr(b + 1), v.z);
+}
+
+bool parse_switch(const std::string& text, bool& value) {
+    if (text == "1" || text == "true") return value = true, true;
+    if (text == "0" || text == "false") return value = false, true;
+    return false;
+}
+
+// A query value as it may be shown in a message: short and printable.
+std::string shown(const std::string& value) {
+    std::string out;
+    for (const char c : value.substr(0, 40)) out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
+    return "'" + out + (value.size() > 40 ? "...'" : "'");
+}
+
+// Everything of the conventions that the scene or its shading reads, as a cache key.
+std::string conventions_key(const Conventions& c) {
+    return string_printf("%g/%d/%d/%g/%d/%d/%d/%d", double(c.pixel_offset), int(c.fov_axis), int(c.specular),
+                         double(c.default_shininess), int(c.ambient_without_lights), int(c.orthographic_sees_behind),
+                         int(c.black_back_faces), int(c.shade_back_faces));
+}
+
+void write_diagnostics(JsonWriter& json, const char* name, const std::vector<Diagnostic>& diagnostics) {
+    json.key(name);
+    json.open('[');
+    for (const Diagnostic& d : diagnostics) {
+        json.item();
+        json.open('{');
+        json.field("severity", std::string(d.severity == Severity::Error     ? "error"
+                                           : d.severity == Severity::Warning ? "warning"
+                                                                             : "note"));
+        json.field("file", d.location.file);
+        json.integer_field("line", d.location.line);
+        json.integer_field("column", d.location.column);
+        json.field("message", d.message);
+        json.field("source_line", d.source_line);
+        json.field("text", format_diagnostic(d));
+        json.close('}');
+    }
+    json.close(']');
+}
+
+}  // namespace
+
+// A request's render options, conventions and camera, and the pixel for /explain.
+struct ViewSession::Request {
+    RenderOptions options;
+    Conventions conventions;
+    CameraDesc camera;
+    int width = 0, height = 0;
+    int x = -1, y = -1;
+};
+
+ViewSession::ViewSession(ViewSettings settings) : settings_(std::move(settings)) {
+    settings_.render.progress = nullptr;
+    settings_.render.has_crop = false;  // the viewer always shows the whole frame
+}
+
+ViewSession::FileStamp ViewSession::stamp(const std::string& path) {
+    FileStamp s;
+    s.path = path;
+    struct stat info;
+    if (::stat(path.c_str(), &info) == 0) {
+        s.modified_ns = int64_t{info.st_mtim.tv_sec} * 1000000000 + info.st_mtim.tv_nsec;
+        s.size = info.st_size;
+    }
+    return s;
+}
+
+std::vector<ViewSession::FileStamp> ViewSession::stamps_of(const SceneDesc* desc) const {
+    std::vector<FileStamp> stamps{stamp(settings_.scene_path)};
+    if (desc)
+        for (const MeshDesc& mesh : desc->meshes) stamps.push_back(stamp(mesh.path));
+    return stamps;
+}
+
+uint64_t ViewSession::version() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return loaded_.version;
+}
+
+std::vector<std::string> ViewSession::watched_files() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<std::string> files;
+    for (const FileStamp& s : stamps_) files.push_back(s.path);
+    return files;
+}
+
+std::vector<Diagnostic> ViewSession::diagnostics() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<Diagnostic> all = loaded_.errors;
+    if (all.empty()) all = loaded_.warnings;
+    return all;
+}
+
+bool ViewSession::reload_if_changed() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (loaded_.version > 0) {
+            bool changed = false;
+            for (const FileStamp& old : stamps_) changed |= !(stamp(old.path) == old);
+            if (!changed) return false;
+        }
+    }
+    // Load and build outside the lock: requests go on with the last scene meanwhile.
+    std::shared_ptr<SceneDesc> desc;
+    std::shared_ptr<const Scene> scene;
+    std::vector<Diagnostic> errors;
+    std::vector<FileStamp> stamps;
+    try {
+        desc = std::make_shared<SceneDesc>(load_scene_file(settings_.scene_path, settings_.load));
+        stamps = stamps_of(desc.get());
+        SceneBuildOptions build;
+        build.width = settings_.width > 0 ? settings_.width : (desc->camera && desc->camera->width > 0 ? 0 : kDefaultViewSide);
+        build.height = settings_.height > 0 ? settings_.height : (desc->camera && desc->camera->height > 0 ? 0 : kDefaultViewSide);
+        build.conventions = settings_.conventions;
+        build.threads = settings_.render.threads;
+        scene = std::make_shared<const Scene>(build_scene(*desc, build));
+    } catch (const InputError& error) {
+        errors = error.diagnostics();
+        if (stamps.empty()) stamps = stamps_of(nullptr);
+    } catch (const std::bad_alloc&) {
+        Diagnostic out_of_memory;
+        out_of_memory.location.file = settings_.scene_path;
+        out_of_memory.message = "out of memory while loading the scene";
+        errors.push_back(std::move(out_of_memory));
+        if (stamps.empty()) stamps = stamps_of(nullptr);
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    // Keep watching the meshes of the last good scene too, so that fixing one reloads.
+    if (errors.empty()) {
+        loaded_.desc = std::move(desc);
+        loaded_.warnings = loaded_.desc->warnings;
+        scenes_.clear();
+        scenes_[conventions_key(settings_.conventions)] = std::move(scene);
+    } else {
+        for (const FileStamp& old : stamps_)
+            if (std::none_of(stamps.begin(), stamps.end(), [&](const FileStamp& s) { return s.path == old.path; }))
+                stamps.push_back(stamp(old.path));
+    }
+    loaded_.errors = std::move(errors);
+    stamps_ = std::move(stamps);
+    ++loaded_.version;
+    return true;
+}
+
+std::shared_ptr<const Scene> ViewSession::scene_for(const std::shared_ptr<const SceneDesc>& desc,
+                                                    const Conventions& conventions, std::string& error) {
+    const std::string key = conventions_key(conventions);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (desc != loaded_.desc) {
+            error = "the scene changed while the request waited: ask again";
+            return nullptr;
+        }
+        auto found = scenes_.find(key);
+        if (found != scenes_.end()) return found->second;
+    }
+    std::lock_guard<std::mutex> building(build_mutex_);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto found = scenes_.find(key);
+        if (desc == loaded_.desc && found != scenes_.end()) return found->second;
+    }
+    SceneBuildOptions build;
+    build.width = desc->camera && desc->camera->width > 0 ? 0 : kDefaultViewSide;
+    build.height = desc->camera && desc->camera->height > 0 ? 0 : kDefaultViewSide;
+    build.conventions = conventions;
+    build.threads = settings_.render.threads;
+    std::shared_ptr<const Scene> scene;
+    try {
+        scene = std::make_shared<const Scene>(build_scene(*desc, build));
+    } catch (const InputError& e) {
+        error = e.what();
+        return nullptr;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (desc == loaded_.desc) scenes_[key] = scene;
+    return scene;
+}
+
+bool ViewSession::parse_request(const QueryParameters& query, bool explaining, Request& request,
+                                std::string& error) const {
+    request.options = settings_.render;
+    request.conventions = settings_.conventions;
+    bool mit = settings_.mit_conventions;
+    bool fov_given = false, shade_back_given = false;
+    FovAxis fov = settings_.conventions.fov_axis;
+    bool shade_back = settings_.conventions.shade_back_faces;
+    std::set<std::string> seen;
+    Vec3f eye, direction, up;
+    bool has_eye = false, has_direction = false, has_up = false;
+    float angle = 0, size = 0;
+    for (const auto& [name, value] : query) {
+        if (!seen.insert(name).second) return error = "parameter '" + name + "' is given twice", false;
+        const auto fail = [&](const std::string& expected) {
+            error = "parameter '" + name + "' " + expected + ", got " + shown(value);
+            return false;
+        };
+        int64_t whole = 0;
+        float number = 0;
+        bool flag = false;
+        RenderOptions& o = request.options;
+        if (name == "mode") {
+            const std::pair<const char*, RenderMode> modes[] = {
+                {"shaded", RenderMode::Shaded}, {"normals", RenderMode::Normals}, {"depth", RenderMode::Depth},
+                {"material", RenderMode::Material}, {"cost", RenderMode::Cost}, {"ao", RenderMode::AmbientOcclusion}};
+            bool known = false;
+            for (const auto& [mode_name, mode] : modes)
+                if (value == mode_name) o.mode = mode, known = true;
+            if (!known) return fail("must be shaded, normals, depth, material, cost or ao");
+        } else if (name == "shadows" || name == "transparent_shadows" || name == "shade_back") {
+            if (!parse_switch(value, flag)) return fail("must be 0 or 1");
+            if (name == "shadows") o.shadows = flag;
+            if (name == "transparent_shadows") o.transparent_shadows = flag;
+            if (name == "shade_back") shade_back = flag, shade_back_given = true;
+        } else if (name == "bounces") {
+            if (!parse_whole_int(value, whole) || whole < 0 || whole > kMaxBounces)
+                return fail(string_printf("must be a whole number from 0 to %d", kMaxBounces));
+            o.bounces = static_cast<int>(whole);
+        } else if (name == "weight") {
+            if (!parse_whole_float(value, number) || number < 0 || number > 1) return fail("must be a number from 0 to 1");
+            o.weight_cutoff = number;
+        } else if (name == "spp") {
+            if (!parse_whole_int(value, whole) || whole < 1 || whole > kMaxViewSamples)
+                return fail(string_printf("must be a whole number from 1 to %d", kMaxViewSamples));
+            o.samples_per_pixel = static_cast<int>(whole);
+        } else if (name == "ao_samples") {
+            if (!parse_whole_int(value, whole) || whole < 1 || whole > 4096)
+                return fail("must be a whole number from 1 to 4096");
+            o.ao_samples = static_cast<int>(whole);
+        } else if (name == "ao_distance") {
+            if (!parse_whole_float(value, number) || !(number > 0)) return fail("must be a positive number");
+            o.ao_distance = number;
+        } else if (name == "conventions") {
+            if (value != "course" && value != "mit6837") return fail("must be course or mit6837");
+            mit = value == "mit6837";
+        } else if (name == "fov") {
+            if (value != "both" && value != "vertical") return fail("must be both or vertical");
+            fov = value == "both" ? FovAxis::Both : FovAxis::Vertical;
+            fov_given = true;
+        } else if (name == "width" || name == "height") {
+            if (!parse_whole_int(value, whole) || whole < 1 || whole > kMaxViewSide)
+                return fail(string_printf("must be a whole number from 1 to %d", kMaxViewSide));
+            (name == "width" ? request.width : request.height) = static_cast<int>(whole);
+        } else if (name == "eye" || name == "dir" || name == "up") {
+            Vec3f v;
+            if (!parse_vec3(value, v)) return fail("must be three numbers x,y,z");
+            if (name == "eye") eye = v, has_eye = true;
+            if (name == "dir") direction = v, has_direction = true;
+            if (name == "up") up = v, has_up = true;
+        } else if (name == "angle") {
+            if (!parse_whole_float(value, number) || !(number > 0 && number < 180))
+                return fail("must be more than 0 and less than 180 degrees");
+            angle = number;
+        } else if (name == "size") {
+            if (!parse_whole_float(value, number) || !(number > 0)) return fail("must be a positive number");
+            size = number;
+        } else if (explaining && (name == "x" || name == "y")) {
+            if (!parse_whole_int(value, whole) || whole < 0 || whole >= kMaxViewSide)
+                return fail("must be a pixel's column (x) or row from the top (y)");
+            (name == "x" ? request.x : request.y) = static_cast<int>(whole);
+        } else {
+            error = "unknown parameter " + shown(name);
+            return false;
+        }
+    }
+    if (explaining && (request.x < 0 || request.y < 0)) return error = "explain needs the pixel: x= and y=", false;
+    // The conventions: the chosen base, with the command line's adjustments unless the query
+    // makes its own.
+    if (mit != settings_.mit_conventions) {
+        const Conventions given = request.conventions;
+        request.conventions = mit ? Conventions::mit6837() : Conventions::course();
+        request.conventions.shade_back_faces = given.shade_back_faces;
+        request.conventions.specular = given.specular == SpecularModel::BlinnTimesNdotL && mit ? given.specular
+                                                                                               : request.conventions.specular;
+        if (!fov_given) fov = request.conventions.fov_axis;
+    }
+    request.conventions.fov_axis = fov;
+    if (shade_back_given) request.conventions.shade_back_faces = shade_back;
+    // The camera as the file has it, moved where the query says.
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!loaded_.desc || !loaded_.desc->camera) return error = "the scene has not loaded", false;
+    request.camera = *loaded_.desc->camera;
+    CameraDesc& camera = request.camera;
+    if (has_eye) camera.center = eye;
+    if (has_direction) camera.direction = direction;
+    if (has_up) camera.up = up;
+    if (angle > 0) {
+        if (camera.kind != CameraDesc::Kind::Perspective) return error = "angle is for a perspective camera", false;
+        camera.angle_degrees = angle;
+    }
+    if (size > 0) {
+        if (camera.kind != CameraDesc::Kind::Orthographic) return error = "size is for an orthographic camera", false;
+        camera.size = size;
+    }
+    if (is_zero(camera.direction)) return error = "the camera direction must not be the zero vector", false;
+    if (is_zero(camera.up)) return error = "the camera up must not be the zero vector", false;
+    if (length(cross(normalize_any_length(camera.direction), normalize_any_length(camera.up))) < 1e-6f)
+        return error = "the camera up must not be parallel to its direction", false;
+    const int width = settings_.width > 0 ? settings_.width : (camera.width > 0 ? camera.width : kDefaultViewSide);
+    const int height = settings_.height > 0 ? settings_.height : (camera.height > 0 ? camera.height : kDefaultViewSide);
+    if (request.width == 0) request.width = width;
+    if (request.height == 0) request.height = height;
+    if (explaining && (request.x >= request.width || request.y >= request.height))
+        return error = string_printf("pixel %d %d is outside the %dx%d image", request.x, request.y, request.width,
+                                     request.height),
+               false;
+    return true;
+}
+
+ViewResponse ViewSession::image(const QueryParameters& query) {
+    const uint64_t id = ++latest_image_;
+    Request request;
+    std::string error;
+    if (!parse_request(query, false, request, error)) return text_response(400, error);
+    std::shared_ptr<const SceneDesc> desc;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        desc = loaded_.desc;
+    }
+    const std::shared_ptr<const Scene> scene = scene_for(desc, request.conventions, error);
+    if (!scene) return text_response(503, error);
+    Camera camera = make_camera(request.camera, request.width, request.height, request.conventions);
+    if (settings_.aperture > 0) {
+        camera.lens_radius = settings_.aperture / 2;
+        camera.focus_distance = settings_.focus_distance > 0 ? settings_.focus_distance : auto_focus_distance(*scene, camera);
+    }
+    RenderOptions& options = request.options;
+    options.camera = &camera;
+    options.cancelled = [this, id] { return latest_image_.load(std::memory_order_relaxed) != id; };
+    RenderStats stats;
+    FrameImages images = render_frame_rgb8(*scene, options, FrameRequest{}, &stats);
+    if (stats.cancelled) return text_response(409, "cancelled: a newer image was asked for");
+    const ImageFormat format = png_supported() ? ImageFormat::Png : ImageFormat::Bmp;
+    const std::vector<uint8_t> bytes = encode_image(images.color, format);
+    return {200, png_supported() ? "image/png" : "image/bmp", std::string(bytes.begin(), bytes.end())};
+}
+
+ViewResponse ViewSession::explain(const QueryParameters& query) {
+    Request request;
+    std::string error;
+    if (!parse_request(query, true, request, error)) return text_response(400, error);
+    std::shared_ptr<const SceneDesc> desc;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        desc = loaded_.desc;
+    }
+    const std::shared_ptr<const Scene> scene = scene_for(desc, request.conventions, error);
+    if (!scene) return text_response(503, error);
+    Camera camera = make_camera(request.camera, request.width, request.height, request.conventions);
+    if (settings_.aperture > 0) {
+        camera.lens_radius = settings_.aperture / 2;
+        camera.focus_distance = settings_.focus_distance > 0 ? settings_.focus_distance : auto_focus_distance(*scene, camera);
+    }
+    request.options.camera = &camera;
+    PixelExplanation explanation = explain_pixel(*scene, request.options, request.x, request.y);
+    explanation.scene = desc->file;
+    return json_response(explanation_json(explanation));
+}
+
+ViewResponse ViewSession::status() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    JsonWriter json;
+    json.open('{');
+    json.integer_field("version", static_cast<long long>(loaded_.version));
+    json.field("scene", settings_.scene_path);
+    json.field("loaded", loaded_.desc != nullptr);
+    write_diagnostics(json, "errors", loaded_.errors);
+    write_diagnostics(json, "warnings", loaded_.warnings);
+    json.field("png", png_supported());
+    // The defaults every request starts from (the command line's options).
+    const RenderOptions& o = settings_.render;
+    json.key("defaults");
+    json.open('{');
+    json.field("mode", std::string(render_mode_name(o.mode)));
+    json.field("shadows", o.shadows);
+    json.field("transparent_shadows", o.transparent_shadows);
+    json.integer_field("bounces", o.bounces);
+    json.field("weight", o.weight_cutoff);
+    json.integer_field("spp", o.samples_per_pixel);
+    json.integer_field("ao_samples", o.ao_samples);
+    json.field("ao_distance", o.ao_distance);
+    json.field("conventions", std::string(settings_.mit_conventions ? "mit6837" : "course"));
+    json.field("fov", std::string(settings_.conventions.fov_axis == FovAxis::Both ? "both" : "vertical"));
+    json.field("shade_back", settings_.conventions.shade_back_faces);
+    json.close('}');
+    // The camera as the scene file writes it, for moving it and for copying the block back.
+    json.key("camera");
+    if (loaded_.desc && loaded_.desc->camera) {
+        const CameraDesc& c = *loaded_.desc->camera;
+        const auto vec = [&](const char* name, Vec3f v) {
+            json.key(name);
+            json.inline_numbers({v.x, v.y, v.z});
+        };
+        json.open('{');
+        json.field("kind", std::string(c.kind == CameraDesc::Kind::Perspective ? "PerspectiveCamera" : "OrthographicCamera"));
+        vec("center", c.center);
+        vec("direction", c.direction);
+        vec("up", c.up);
+        json.field("angle", c.angle_degrees);
+        json.field("size", c.size);
+        json.integer_field("file_width", c.width);
+        json.integer_field("file_height", c.height);
+        json.integer_field("width", settings_.width > 0 ? settings_.width : (c.width > 0 ? c.width : kDefaultViewSide));
+        json.integer_field("height",
+                           settings_.height > 0 ? settings_.height : (c.height > 0 ? c.height : kDefaultViewSide));
+        json.close('}');
+        const auto found = scenes_.find(conventions_key(settings_.conventions));
+        json.key("bounds");
+        if (found != scenes_.end() && !found->second->bounds.is_empty()) {
+            json.open('{');
+            vec("lower", found->second->bounds.lower);
+            vec("upper", found->second->bounds.upper);
+            json.close('}');
+        } else {
+            json.null();
+        }
+    } else {
+        json.null();
+        json.key("bounds");
+        json.null();
+    }
+    json.close('}');
+    std::string body = json.take();
+    body += '\n';
+    return json_response(std::move(body));
+}
+
+}  // namespace raycast

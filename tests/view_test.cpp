@@ -1,0 +1,435 @@
+// `raycast view` (docs/viewer.md) through its HTTP endpoints, with the program running as a user
+// starts it: /image with default options is byte for byte the file `raycast SCENE OUT` writes,
+// /explain is the JSON of `raycast explain`, /status tells versions and located errors; editing
+// the scene file reloads it, a typo keeps the last good image; bad and hostile requests (bad query
+// values, huge headers and bodies, `..` paths, garbage, thousands of connections, idle and slow
+// connections) get a 4xx or are dropped, cost bounded memory and leave the server answering.
+// The session's cancellation of an older render is tested in process. Skipped in builds without
+// cpp-httplib.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "image/image_io.h"
+#include "json_value.h"
+#include "test_support.h"
+#include "view/view_server.h"
+#include "view/view_session.h"
+
+extern char** environ;
+
+namespace raycast::test {
+namespace {
+
+// Two spheres (one a mirror), a floor and a quad mesh, lit by two lights.
+const char* const kScene = R"(PerspectiveCamera {
+    center 0 1 9  direction 0 -0.1 -1  up 0 1 0  angle 35  width 48  height 36
+}
+Lights {
+    numLights 2
+    PointLight { position 3 5 5 color 0.8 0.8 0.8 }
+    DirectionalLight { direction -0.3 -1 -0.5 color 0.4 0.4 0.4 }
+}
+Background { color 0.2 0.3 0.5 }
+Materials {
+    numMaterials 3
+    Material { diffuseColor 0.05 0.05 0.05 specularColor 0.6 0.6 0.6 shininess 40 reflectiveColor 0.85 0.85 0.85 }
+    Material { diffuseColor 0.7 0.3 0.2 specularColor 0.3 0.3 0.3 shininess 20 }
+    Material { diffuseColor 0.6 0.6 0.55 }
+}
+Group {
+    numObjects 4
+    MaterialIndex 0
+    Sphere { center -1 0 0 radius 1 }
+    MaterialIndex 1
+    Sphere { center 1.3 -0.3 0.8 radius 0.7 }
+    MaterialIndex 2
+    Plane { normal 0 1 0 offset -1 }
+    TriangleMesh { obj_file quad.obj }
+}
+)";
+
+const char* const kQuadObj = "v -4 -1 -3\nv 4 -1 -3\nv 4 3 -3\nv -4 3 -3\nf 1 2 3 4\n";
+
+std::string image_extension() { return png_supported() ? ".png" : ".bmp"; }
+
+struct HttpResponse {
+    int status = 0;  // 0: no answer (connection refused or closed)
+    std::string headers;
+    std::string body;
+};
+
+int connect_to(int port) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+        ::close(fd);
+        return -1;
+    }
+    timeval timeout{30, 0};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    return fd;
+}
+
+// Sends raw bytes on a new connection and reads the answer until the server closes it.
+HttpResponse send_raw(int port, const std::string& request) {
+    HttpResponse response;
+    const int fd = connect_to(port);
+    if (fd < 0) return response;
+    size_t sent = 0;
+    while (sent < request.size()) {
+        const ssize_t n = ::send(fd, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
+        if (n <= 0) break;  // the server may close early on a request it refuses
+        sent += static_cast<size_t>(n);
+    }
+    std::string all;
+    char buffer[65536];
+    for (;;) {
+        const ssize_t n = ::recv(fd, buffer, sizeof buffer, 0);
+        if (n <= 0) break;
+        all.append(buffer, static_cast<size_t>(n));
+    }
+    ::close(fd);
+    const size_t end = all.find("\r\n\r\n");
+    if (all.rfind("HTTP/1.1 ", 0) != 0 || end == std::string::npos) return response;
+    response.status = std::atoi(all.c_str() + 9);
+    response.headers = all.substr(0, end);
+    response.body = all.substr(end + 4);
+    return response;
+}
+
+HttpResponse get(int port, const std::string& target) {
+    return send_raw(port, "GET " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n");
+}
+
+// `raycast view ARGS --port 0 -q` started in `dir`, stopped with SIGTERM at the end.
+class Viewer {
+public:
+    Viewer(const std::string& dir, const std::string& arguments) {
+        int out[2];
+        EXPECT_EQ(::pipe(out), 0);
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        posix_spawn_file_actions_adddup2(&actions, out[1], 1);
+        posix_spawn_file_actions_addclose(&actions, out[0]);
+        const std::string command = "cd '" + dir + "' && exec '" + RAYCAST_EXECUTABLE + "' view " + arguments +
+                                    " --port 0 -q";
+        const char* argv[] = {"/bin/sh", "-c", command.c_str(), nullptr};
+        EXPECT_EQ(posix_spawn(&pid_, "/bin/sh", &actions, nullptr, const_cast<char* const*>(argv), environ), 0);
+        posix_spawn_file_actions_destroy(&actions);
+        ::close(out[1]);
+        // The first line of its output is the URL.
+        std::string line;
+        char c;
+        while (::read(out[0], &c, 1) == 1 && c != '\n') line += c;
+        ::close(out[0]);
+        const size_t colon = line.rfind(':');
+        if (line.rfind("http://127.0.0.1:", 0) == 0 && colon != std::string::npos) port_ = std::atoi(line.c_str() + colon + 1);
+        url_ = line;
+    }
+    ~Viewer() {
+        if (pid_ > 0) {
+            ::kill(pid_, SIGTERM);
+            int status = 0;
+            ::waitpid(pid_, &status, 0);
+        }
+    }
+    int port() const { return port_; }
+    const std::string& url() const { return url_; }
+    pid_t pid() const { return pid_; }
+    // Resident memory of the server, in KiB (from /proc).
+    long rss_kib() const {
+        std::ifstream in("/proc/" + std::to_string(pid_) + "/status");
+        std::string key;
+        while (in >> key) {
+            if (key == "VmRSS:") {
+                long kib = 0;
+                in >> kib;
+                return kib;
+            }
+            in.ignore(1 << 20, '\n');
+        }
+        return -1;
+    }
+
+private:
+    pid_t pid_ = -1;
+    int port_ = 0;
+    std::string url_;
+};
+
+JsonValue json_of(const std::string& text) {
+    JsonValue value;
+    JsonReader reader(text);
+    EXPECT_TRUE(reader.parse(value)) << reader.error() << "\n" << text;
+    return value;
+}
+
+// Polls /status until its version exceeds `after` (at most 20 s).
+JsonValue wait_for_version_after(int port, double after) {
+    const auto start = std::chrono::steady_clock::now();
+    for (;;) {
+        const JsonValue status = json_of(get(port, "/status").body);
+        if (status.has("version") && status["version"].number > after) return status;
+        if (std::chrono::steady_clock::now() - start > std::chrono::seconds(20)) {
+            ADD_FAILURE() << "the viewer did not reload";
+            return status;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+}
+
+std::string scene_dir(const std::string& name) {
+    const std::string dir = temp_dir("view/" + name);
+    write_file(dir + "/s.txt", kScene);
+    write_file(dir + "/quad.obj", kQuadObj);
+    return dir;
+}
+
+class ViewTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!view_server_available()) GTEST_SKIP() << "built without cpp-httplib: no raycast view";
+    }
+};
+
+TEST_F(ViewTest, ImageAndExplainAreWhatTheCommandLineGives) {
+    const std::string dir = scene_dir("same");
+    const std::string options = "--shadows --bounces 2";
+    Viewer viewer(dir, "s.txt " + options);
+    ASSERT_GT(viewer.port(), 0) << viewer.url();
+    ASSERT_EQ(run_raycast("s.txt out" + image_extension() + " -q " + options, dir).exit_code, 0);
+    const HttpResponse image = get(viewer.port(), "/image");
+    ASSERT_EQ(image.status, 200) << image.body;
+    EXPECT_NE(image.headers.find(png_supported() ? "Content-Type: image/png" : "Content-Type: image/bmp"),
+              std::string::npos)
+        << image.headers;
+    EXPECT_TRUE(image.body == read_file(dir + "/out" + image_extension())) << "the image differs from the CLI's";
+    // The same with options in the query and on the command line.
+    ASSERT_EQ(run_raycast("s.txt ao" + image_extension() + " -q --mode ao --spp 4 --bounces 2 --shadows", dir).exit_code,
+              0);
+    EXPECT_TRUE(get(viewer.port(), "/image?mode=ao&spp=4").body == read_file(dir + "/ao" + image_extension()));
+    // /explain: the JSON of raycast explain, for several pixels.
+    for (const auto& [x, y] : {std::pair<int, int>{10, 17}, {30, 20}, {0, 0}}) {
+        const HttpResponse explained = get(viewer.port(), "/explain?x=" + std::to_string(x) + "&y=" + std::to_string(y));
+        ASSERT_EQ(explained.status, 200) << explained.body;
+        EXPECT_NE(explained.headers.find("Content-Type: application/json"), std::string::npos);
+        const RunResult cli = run_raycast("explain s.txt " + std::to_string(x) + " " + std::to_string(y) + " -q " + options, dir);
+        EXPECT_EQ(explained.body, cli.output) << x << " " << y;
+    }
+    // The page: one HTML document, nothing fetched from elsewhere.
+    const HttpResponse page = get(viewer.port(), "/");
+    ASSERT_EQ(page.status, 200);
+    EXPECT_NE(page.body.find("<!DOCTYPE html>"), std::string::npos);
+    EXPECT_EQ(page.body.find("http://"), std::string::npos);
+    EXPECT_EQ(page.body.find("https://"), std::string::npos);
+    EXPECT_EQ(page.body.find("src=\"/"), std::string::npos);
+}
+
+TEST_F(ViewTest, StatusTellsTheVersionCameraAndDefaults) {
+    const std::string dir = scene_dir("status");
+    Viewer viewer(dir, "s.txt --bounces 3 --shadows");
+    const JsonValue status = json_of(get(viewer.port(), "/status").body);
+    EXPECT_EQ(status["version"].number, 1);
+    EXPECT_EQ(status["loaded"].boolean, true);
+    EXPECT_EQ(status["scene"].string, "s.txt");
+    EXPECT_TRUE(status["errors"].array.empty());
+    EXPECT_EQ(status["defaults"]["bounces"].number, 3);
+    EXPECT_EQ(status["defaults"]["shadows"].boolean, true);
+    EXPECT_EQ(status["defaults"]["conventions"].string, "course");
+    EXPECT_EQ(status["camera"]["kind"].string, "PerspectiveCamera");
+    EXPECT_EQ(status["camera"]["center"][2].number, 9);
+    EXPECT_EQ(status["camera"]["angle"].number, 35);
+    EXPECT_EQ(status["camera"]["width"].number, 48);
+    ASSERT_EQ(status["bounds"].type, JsonValue::Type::Object);  // the spheres and the quad
+    EXPECT_NEAR(status["bounds"]["lower"][0].number, -4, 1e-3);
+}
+
+TEST_F(ViewTest, EditingTheSceneReloadsItAndATypoKeepsTheLastGoodImage) {
+    const std::string dir = scene_dir("reload");
+    Viewer viewer(dir, "s.txt");
+    const std::string before = get(viewer.port(), "/image").body;
+    ASSERT_FALSE(before.empty());
+    // A new background colour: a new version, and the image the CLI makes of the new file.
+    std::string scene = kScene;
+    scene.replace(scene.find("color 0.2 0.3 0.5"), 17, "color 0.9 0.1 0.1");
+    write_file(dir + "/s.txt", scene);
+    JsonValue status = wait_for_version_after(viewer.port(), 1);
+    EXPECT_TRUE(status["errors"].array.empty());
+    const std::string after = get(viewer.port(), "/image").body;
+    ASSERT_EQ(run_raycast("s.txt new" + image_extension() + " -q", dir).exit_code, 0);
+    EXPECT_TRUE(after == read_file(dir + "/new" + image_extension()));
+    EXPECT_FALSE(after == before);
+    // A mesh is watched too.
+    write_file(dir + "/quad.obj", "v -4 -1 -3\nv 4 -1 -3\nv 4 1 -3\nv -4 1 -3\nf 1 2 3 4\n");
+    status = wait_for_version_after(viewer.port(), status["version"].number);
+    const std::string lower_quad = get(viewer.port(), "/image").body;
+    EXPECT_FALSE(lower_quad == after);
+    // A typo: the error, located, with its line and caret; the last good image stays.
+    std::string typo = scene;
+    typo.replace(typo.find("radius 0.7"), 10, "radios 0.7");
+    write_file(dir + "/s.txt", typo);
+    status = wait_for_version_after(viewer.port(), status["version"].number);
+    // The misspelt field, and so the missing radius.
+    ASSERT_EQ(status["errors"].array.size(), 2u);
+    EXPECT_EQ(status["errors"][1]["message"].string, "Sphere is missing 'radius'");
+    const JsonValue& error = status["errors"][0];
+    EXPECT_EQ(error["severity"].string, "error");
+    EXPECT_EQ(error["file"].string, "s.txt");
+    EXPECT_EQ(error["line"].number, 21);
+    EXPECT_EQ(error["column"].number, 34);
+    EXPECT_EQ(error["message"].string, "unknown field 'radios' in Sphere; did you mean 'radius'?");
+    EXPECT_EQ(error["text"].string,
+              "s.txt:21:34: error: unknown field 'radios' in Sphere; did you mean 'radius'?\n"
+              "      Sphere { center 1.3 -0.3 0.8 radios 0.7 }\n"
+              "                                   ^\n");
+    EXPECT_TRUE(get(viewer.port(), "/image").body == lower_quad);
+    // Fixed again: the errors go.
+    write_file(dir + "/s.txt", scene);
+    status = wait_for_version_after(viewer.port(), status["version"].number);
+    EXPECT_TRUE(status["errors"].array.empty());
+}
+
+TEST_F(ViewTest, BadQueryValuesAreAnsweredFourHundredWithTheReason) {
+    const std::string dir = scene_dir("queries");
+    Viewer viewer(dir, "s.txt");
+    const std::pair<const char*, const char*> cases[] = {
+        {"/image?mode=bogus", "parameter 'mode' must be shaded, normals, depth, material, cost or ao, got 'bogus'"},
+        {"/image?spp=0", "parameter 'spp' must be a whole number from 1 to 256, got '0'"},
+        {"/image?spp=1&spp=2", "parameter 'spp' is given twice"},
+        {"/image?bounces=-1", "parameter 'bounces' must be a whole number from 0 to 1000, got '-1'"},
+        {"/image?weight=2", "parameter 'weight' must be a number from 0 to 1, got '2'"},
+        {"/image?width=100000", "parameter 'width' must be a whole number from 1 to 4096, got '100000'"},
+        {"/image?eye=1,2", "parameter 'eye' must be three numbers x,y,z, got '1,2'"},
+        {"/image?eye=nan,0,0", "parameter 'eye' must be three numbers x,y,z, got 'nan,0,0'"},
+        {"/image?dir=0,0,0", "the camera direction must not be the zero vector"},
+        {"/image?dir=0,0,-1&up=0,0,-2", "the camera up must not be parallel to its direction"},
+        {"/image?angle=180", "parameter 'angle' must be more than 0 and less than 180 degrees, got '180'"},
+        {"/image?size=2", "size is for an orthographic camera"},
+        {"/image?file=/etc/passwd", "unknown parameter 'file'"},
+        {"/image?x=3", "unknown parameter 'x'"},
+        {"/explain?x=1", "explain needs the pixel: x= and y="},
+        {"/explain?x=48&y=0", "pixel 48 0 is outside the 48x36 image"},
+        {"/explain?x=-1&y=0", "parameter 'x' must be a pixel's column (x) or row from the top (y), got '-1'"},
+        {"/image?shadows=yes", "parameter 'shadows' must be 0 or 1, got 'yes'"},
+    };
+    for (const auto& [target, reason] : cases) {
+        const HttpResponse response = get(viewer.port(), target);
+        EXPECT_EQ(response.status, 400) << target;
+        if (response.status == 400) {
+            EXPECT_EQ(response.body, std::string(reason) + "\n") << target;
+        }
+    }
+    EXPECT_EQ(get(viewer.port(), "/status").status, 200);
+}
+
+TEST_F(ViewTest, HostileRequestsGetFourHundredsAndTheServerKeepsServing) {
+    const std::string dir = scene_dir("hostile");
+    Viewer viewer(dir, "s.txt");
+    const int port = viewer.port();
+    ASSERT_GT(port, 0);
+    const std::string host = "Host: 127.0.0.1\r\n";
+    struct Case {
+        const char* name;
+        std::string request;
+        int status;
+    };
+    const Case cases[] = {
+        {"one huge header", "GET /status HTTP/1.1\r\n" + host + "X-Big: " + std::string(100000, 'a') + "\r\n\r\n", 400},
+        {"many headers", "GET /status HTTP/1.1\r\n" + host + [] {
+             std::string many;
+             for (int i = 0; i < 20000; ++i) many += "X-A: bbbbbbbbbbbbbbbbbbbbbbbbbbbbbb\r\n";
+             return many;
+         }() + "\r\n", 400},
+        {"a huge URI", "GET /image?" + [] {
+             std::string query;
+             for (int i = 0; i < 5000; ++i) query += "a=1&";
+             return query;
+         }() + " HTTP/1.1\r\n" + host + "\r\n", 414},
+        {"a huge body", "POST /image HTTP/1.1\r\n" + host + "Content-Length: 100000000\r\n\r\n" + std::string(100000, 'x'), 405},
+        {"a GET with a body", "GET /status HTTP/1.1\r\n" + host + "Content-Length: 100000\r\n\r\n" + std::string(100000, 'x'), 413},
+        {"a chunked GET", "GET /status HTTP/1.1\r\n" + host + "Transfer-Encoding: chunked\r\n\r\n5\r\nhello\r\n0\r\n\r\n", 413},
+        {"a .. path", "GET /../../etc/passwd HTTP/1.1\r\n" + host + "\r\n", 404},
+        {"an encoded .. path", "GET /%2e%2e/%2e%2e/etc/passwd HTTP/1.1\r\n" + host + "\r\n", 404},
+        {"another path", "GET /s.txt HTTP/1.1\r\n" + host + "\r\n", 404},
+        {"DELETE", "DELETE /status HTTP/1.1\r\n" + host + "\r\n", 405},
+        {"garbage", std::string("\x00\x01\x02 garbage\r\n\r\n", 17), 400},
+    };
+    for (const Case& c : cases) {
+        const HttpResponse response = send_raw(port, c.request);
+        EXPECT_EQ(response.status, c.status) << c.name << "\n" << response.headers;
+        EXPECT_EQ(get(port, "/status").status, 200) << "after " << c.name;
+    }
+
+    // Thousands of connections, 16 at a time: every one answered.
+    std::atomic<int> answered{0};
+    std::vector<std::thread> clients;
+    for (int t = 0; t < 16; ++t)
+        clients.emplace_back([&] {
+            for (int i = 0; i < 125; ++i) answered += get(port, "/status").status == 200 ? 1 : 0;
+        });
+    for (std::thread& client : clients) client.join();
+    EXPECT_EQ(answered.load(), 2000);
+
+    // Hundreds of connections that say nothing, and hundreds that drip a byte at a time: a normal
+    // request is still answered quickly.
+    std::vector<int> idle;
+    for (int i = 0; i < 300; ++i) idle.push_back(connect_to(port));
+    std::vector<int> slow;
+    for (int i = 0; i < 100; ++i) {
+        slow.push_back(connect_to(port));
+        ::send(slow.back(), "GET /status HTTP/1.1\r\nHo", 24, MSG_NOSIGNAL);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));  // past every per-request deadline
+    for (const int fd : slow) ::send(fd, "s", 1, MSG_NOSIGNAL);
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_EQ(get(port, "/status").status, 200);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 1.0) << "a request waited behind idle and slow connections";
+    for (const int fd : idle) ::close(fd);
+    for (const int fd : slow) ::close(fd);
+    // Memory stayed bounded (the scene is tiny: the server's own size is well under this).
+    const long rss = viewer.rss_kib();
+    EXPECT_GT(rss, 0);
+    EXPECT_LT(rss, 200 * 1024) << "KiB";
+    EXPECT_EQ(get(port, "/image").status, 200);
+}
+
+TEST_F(ViewTest, ANewerImageRequestCancelsTheOneInProgress) {
+    const std::string dir = scene_dir("cancel");
+    ViewSettings settings;
+    settings.scene_path = dir + "/s.txt";
+    settings.render.threads = 2;
+    ViewSession session(settings);
+    ASSERT_TRUE(session.reload_if_changed());
+    EXPECT_FALSE(session.reload_if_changed());  // nothing changed since
+    ViewResponse slow;
+    std::thread first([&] {
+        slow = session.image({{"width", "2000"}, {"height", "2000"}, {"spp", "64"}, {"mode", "ao"}});
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const ViewResponse quick = session.image({{"width", "8"}, {"height", "6"}});
+    first.join();
+    EXPECT_EQ(quick.status, 200);
+    EXPECT_EQ(slow.status, 409);
+    EXPECT_EQ(slow.body, "cancelled: a newer image was asked for\n");
+}
+
+}  // namespace
+}  // namespace raycast::test
