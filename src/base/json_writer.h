@@ -81,6 +81,7 @@ public:
         out_ += ']';
     }
 
+    void numbers_field(const char* name, std::initializer_list<double> values) { key(name), inline_numbers(values); }
     void field(const char* name, double x) { key(name), number(x); }
     void field(const char* name, bool b) { key(name), boolean(b); }
     void field(const char* name, const std::string& s) { key(name), string(s); }

@@ -86,29 +86,28 @@ namespace {
 
 [[noreturn]] void usage_error(const std::string& message) { throw UsageError(message); }
 
-int parse_positive_int(const std::string& text, const std::string& what, int64_t limit) {
+// A whole number from `lowest` (0 or 1) to `limit`.
+int parse_whole_number(const std::string& text, const std::string& what, int64_t lowest, int64_t limit) {
     int64_t value = 0;
     const char* first = text.c_str();
     const char* last = first + text.size();
     const NumberResult result = parse_int(first, last, value);
     if (result.status != NumberStatus::Ok || result.end != last)
         usage_error(what + " needs a whole number, got '" + text + "'");
-    if (value < 1) usage_error(what + " must be at least 1, got " + text);
+    if (value < lowest)
+        usage_error(what + (lowest == 0 ? std::string(" must not be negative") : " must be at least " + std::to_string(lowest)) +
+                    ", got " + text);
     if (value > limit) usage_error(what + " must be at most " + std::to_string(limit) + ", got " + text);
     return static_cast<int>(value);
 }
 
+int parse_positive_int(const std::string& text, const std::string& what, int64_t limit) {
+    return parse_whole_number(text, what, 1, limit);
+}
+
 // A whole number from 0 to `limit`.
 int parse_count(const std::string& text, const std::string& what, int64_t limit) {
-    int64_t value = 0;
-    const char* first = text.c_str();
-    const char* last = first + text.size();
-    const NumberResult result = parse_int(first, last, value);
-    if (result.status != NumberStatus::Ok || result.end != last)
-        usage_error(what + " needs a whole number, got '" + text + "'");
-    if (value < 0) usage_error(what + " must not be negative, got " + text);
-    if (value > limit) usage_error(what + " must be at most " + std::to_string(limit) + ", got " + text);
-    return static_cast<int>(value);
+    return parse_whole_number(text, what, 0, limit);
 }
 
 float parse_number(const std::string& text, const std::string& what) {

@@ -20,10 +20,7 @@ const char* ray_kind_name(RayKind kind) {
 
 namespace {
 
-void vec_field(JsonWriter& json, const char* name, Vec3f v) {
-    json.key(name);
-    json.inline_numbers({v.x, v.y, v.z});
-}
+void vec_field(JsonWriter& json, const char* name, Vec3f v) { json.numbers_field(name, {v.x, v.y, v.z}); }
 
 void write_ray(JsonWriter& json, const RayTree& tree, const std::vector<std::vector<int>>& children, int index) {
     const RayRecord& ray = tree.rays[static_cast<size_t>(index)];

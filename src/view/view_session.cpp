@@ -104,6 +104,13 @@ struct ViewSession::Request {
     int x = -1, y = -1;
 };
 
+struct ViewSession::Prepared {
+    Request request;
+    std::shared_ptr<const SceneDesc> desc;
+    std::shared_ptr<const Scene> scene;
+    Camera camera;  // request.options.camera points here
+};
+
 ViewSession::ViewSession(ViewSettings settings) : settings_(std::move(settings)) {
     settings_.render.progress = nullptr;
     settings_.render.has_crop = false;  // the viewer always shows the whole frame
@@ -362,25 +369,34 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
     return true;
 }
 
-ViewResponse ViewSession::image(const QueryParameters& query) {
-    const uint64_t id = ++latest_image_;
-    Request request;
+bool ViewSession::prepare(const QueryParameters& query, bool explaining, Prepared& prepared, ViewResponse& refusal) {
     std::string error;
-    if (!parse_request(query, false, request, error)) return text_response(400, error);
-    std::shared_ptr<const SceneDesc> desc;
+    if (!parse_request(query, explaining, prepared.request, error)) return refusal = text_response(400, error), false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        desc = loaded_.desc;
+        prepared.desc = loaded_.desc;
     }
-    const std::shared_ptr<const Scene> scene = scene_for(desc, request.conventions, error);
-    if (!scene) return text_response(503, error);
-    Camera camera = make_camera(request.camera, request.width, request.height, request.conventions);
+    const Request& request = prepared.request;
+    prepared.scene = scene_for(prepared.desc, request.conventions, error);
+    if (!prepared.scene) return refusal = text_response(503, error), false;
+    Camera& camera = prepared.camera;
+    camera = make_camera(request.camera, request.width, request.height, request.conventions);
     if (settings_.aperture > 0) {
         camera.lens_radius = settings_.aperture / 2;
-        camera.focus_distance = settings_.focus_distance > 0 ? settings_.focus_distance : auto_focus_distance(*scene, camera);
+        camera.focus_distance =
+            settings_.focus_distance > 0 ? settings_.focus_distance : auto_focus_distance(*prepared.scene, camera);
     }
-    RenderOptions& options = request.options;
-    options.camera = &camera;
+    prepared.request.options.camera = &camera;
+    return true;
+}
+
+ViewResponse ViewSession::image(const QueryParameters& query) {
+    const uint64_t id = ++latest_image_;
+    Prepared prepared;
+    ViewResponse refusal;
+    if (!prepare(query, false, prepared, refusal)) return refusal;
+    const std::shared_ptr<const Scene>& scene = prepared.scene;
+    RenderOptions& options = prepared.request.options;
     options.cancelled = [this, id] { return latest_image_.load(std::memory_order_relaxed) != id; };
     RenderStats stats;
     FrameImages images = render_frame_rgb8(*scene, options, FrameRequest{}, &stats);
@@ -391,24 +407,12 @@ ViewResponse ViewSession::image(const QueryParameters& query) {
 }
 
 ViewResponse ViewSession::explain(const QueryParameters& query) {
-    Request request;
-    std::string error;
-    if (!parse_request(query, true, request, error)) return text_response(400, error);
-    std::shared_ptr<const SceneDesc> desc;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        desc = loaded_.desc;
-    }
-    const std::shared_ptr<const Scene> scene = scene_for(desc, request.conventions, error);
-    if (!scene) return text_response(503, error);
-    Camera camera = make_camera(request.camera, request.width, request.height, request.conventions);
-    if (settings_.aperture > 0) {
-        camera.lens_radius = settings_.aperture / 2;
-        camera.focus_distance = settings_.focus_distance > 0 ? settings_.focus_distance : auto_focus_distance(*scene, camera);
-    }
-    request.options.camera = &camera;
-    PixelExplanation explanation = explain_pixel(*scene, request.options, request.x, request.y);
-    explanation.scene = desc->file;
+    Prepared prepared;
+    ViewResponse refusal;
+    if (!prepare(query, true, prepared, refusal)) return refusal;
+    const Request& request = prepared.request;
+    PixelExplanation explanation = explain_pixel(*prepared.scene, request.options, request.x, request.y);
+    explanation.scene = prepared.desc->file;
     return json_response(explanation_json(explanation));
 }
 
@@ -442,10 +446,7 @@ ViewResponse ViewSession::status() const {
     json.key("camera");
     if (loaded_.desc && loaded_.desc->camera) {
         const CameraDesc& c = *loaded_.desc->camera;
-        const auto vec = [&](const char* name, Vec3f v) {
-            json.key(name);
-            json.inline_numbers({v.x, v.y, v.z});
-        };
+        const auto vec = [&](const char* name, Vec3f v) { json.numbers_field(name, {v.x, v.y, v.z}); };
         json.open('{');
         json.field("kind", std::string(c.kind == CameraDesc::Kind::Perspective ? "PerspectiveCamera" : "OrthographicCamera"));
         vec("center", c.center);

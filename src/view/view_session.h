@@ -85,8 +85,10 @@ private:
         uint64_t version = 0;
     };
     struct Request;
+    struct Prepared;  // a request with its scene and camera, ready to render
 
     static FileStamp stamp(const std::string& path);
+    bool prepare(const QueryParameters& query, bool explaining, Prepared& prepared, ViewResponse& refusal);
     std::vector<FileStamp> stamps_of(const SceneDesc* desc) const;
     bool parse_request(const QueryParameters& query, bool explaining, Request& request, std::string& error) const;
     std::shared_ptr<const Scene> scene_for(const std::shared_ptr<const SceneDesc>& desc, const Conventions& conventions,
