@@ -339,6 +339,9 @@ TEST_F(ViewTest, BadQueryValuesAreAnsweredFourHundredWithTheReason) {
     EXPECT_EQ(get(viewer.port(), "/status").status, 200);
 }
 
+// Bytes that are no HTTP at all, NUL first.
+constexpr char kGarbage[] = "\x00\x01\x02 garbage\r\n\r\n";
+
 TEST_F(ViewTest, HostileRequestsGetFourHundredsAndTheServerKeepsServing) {
     const std::string dir = scene_dir("hostile");
     Viewer viewer(dir, "s.txt");
@@ -369,7 +372,7 @@ TEST_F(ViewTest, HostileRequestsGetFourHundredsAndTheServerKeepsServing) {
         {"an encoded .. path", "GET /%2e%2e/%2e%2e/etc/passwd HTTP/1.1\r\n" + host + "\r\n", 404},
         {"another path", "GET /s.txt HTTP/1.1\r\n" + host + "\r\n", 404},
         {"DELETE", "DELETE /status HTTP/1.1\r\n" + host + "\r\n", 405},
-        {"garbage", std::string("\x00\x01\x02 garbage\r\n\r\n", 17), 400},
+        {"garbage", std::string(kGarbage, sizeof kGarbage - 1), 400},
     };
     for (const Case& c : cases) {
         const HttpResponse response = send_raw(port, c.request);
