@@ -56,7 +56,7 @@ struct ShadingFrame {
     SurfacePoint surface;
     Vec3f normal;     // the shading normal: flipped towards the viewer on back faces with shade_back
     Vec3f to_viewer;  // unit, −direction
-    bool back_face;   // the ray met the side the geometric normal points away from
+    bool back_face;   // the ray met the side the surface normal points away from
     float travel_scale;  // of the ray that found the point: for offsetting new rays
 };
 
@@ -136,14 +136,16 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
         if (record) record->note = "reflected and transmitted rays not traced: the bounce limit is reached";
     } else if (reflects || transmits) {
         const Vec3f direction = normalize(ray.direction);
-        const Vec3f geometric = frame.surface.normal;
+        // The normal as the surface defines it (interpolated on smooth meshes), before any flip for
+        // shading: MIT's rule for telling entering from leaving.
+        const Vec3f normal = frame.surface.normal;
         if (reflects) {
             TraceContext child = context;
             child.depth = context.depth + 1;
             child.weight = context.weight * length(material.reflective);
             if (child.weight >= integrator.options.weight_cutoff) {
-                const Vec3f mirrored = mirror_direction(direction, geometric);
-                const Ray reflected{offset_ray_origin(frame.surface.position, geometric, mirrored, frame.travel_scale),
+                const Vec3f mirrored = mirror_direction(direction, normal);
+                const Ray reflected{offset_ray_origin(frame.surface.position, normal, mirrored, frame.travel_scale),
                                     mirrored};
                 const Vec3f incoming = trace_ray(integrator, reflected, RayKind::Reflected, material.reflective, context, child);
                 const Vec3f term = material.reflective * incoming;
@@ -154,9 +156,9 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
             }
         }
         if (transmits) {
-            // Objects sit in vacuum: a ray against the geometric normal enters the material,
+            // Objects sit in vacuum: a ray against the normal enters the material,
             // one along it leaves (MIT's convention, whatever the back-face rule did to shading).
-            const bool entering = dot(direction, geometric) < 0;
+            const bool entering = dot(direction, normal) < 0;
             TraceContext child = context;
             child.depth = context.depth + 1;
             child.weight = context.weight * length(material.transparent);
@@ -165,11 +167,11 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
             const float from = entering ? 1.0f : material.index_of_refraction;
             if (child.weight < integrator.options.weight_cutoff) {
                 if (record) record->note = "transmitted ray not traced: its weight is below the cutoff";
-            } else if (!refract_direction(direction, geometric, from, child.index_of_refraction, refracted)) {
+            } else if (!refract_direction(direction, normal, from, child.index_of_refraction, refracted)) {
                 if (record) record->total_internal_reflection = true;
             } else {
                 const Ray transmitted{
-                    offset_ray_origin(frame.surface.position, geometric, refracted, frame.travel_scale), refracted};
+                    offset_ray_origin(frame.surface.position, normal, refracted, frame.travel_scale), refracted};
                 const Vec3f incoming =
                     trace_ray(integrator, transmitted, RayKind::Transmitted, material.transparent, context, child);
                 const Vec3f term = material.transparent * incoming;
