@@ -544,6 +544,93 @@ TEST(ParseSceneTest, TransformsNestAndHoldAnyObject) {
     EXPECT_TRUE(near(transform_point(outer.world_from_object, {1, 1, 1}), {2, 2, 2}));
 }
 
+// ---- curves and surfaces of revolution (the course's next assignment) ----------------------------
+
+TEST(ParseSceneTest, ReadsCurvesAndSurfacesOfRevolutionWhereverAnObjectMayStand) {
+    const SceneDesc desc = parse(scene_with_group(
+        3, "BezierCurve { controls [ 3 0 0 ] [ 3 1 0 ]\n [ 1 1 0 ] [ 1 0 0.5 ] }\n"
+           "Transform { Translate 1 0 0 RevSurface { profile BsplineCurve { controls\n"
+           "  [ -1 2 0 ] [ -2 1 0 ] [ -1.5 0 0 ] [ -.5 -1 0 ] [ 0 -1 0 ] } } }\n"
+           "Group { numObjects 1 RevSurface { profile BezierCurve { controls [ 0 1 0 ] [ 1 1 0 ] [ 1 0 0 ] [ 2 -1 0 ] } } }"));
+    const std::vector<ObjectDesc>& objects = desc.root->children;
+    ASSERT_EQ(objects.size(), 3u);
+    EXPECT_EQ(objects[0].kind, ObjectDesc::Kind::Curve);
+    EXPECT_EQ(objects[0].curve.type, CurveType::Bezier);
+    ASSERT_EQ(objects[0].curve.controls.size(), 4u);
+    EXPECT_EQ(objects[0].curve.controls[3], (Vec3f{1, 0, 0.5f}));  // a curve alone may leave z = 0
+    const ObjectDesc& surface = objects[1].children.at(0);
+    EXPECT_EQ(surface.kind, ObjectDesc::Kind::RevSurface);
+    EXPECT_EQ(surface.material, 0);
+    EXPECT_EQ(surface.curve.type, CurveType::Bspline);
+    ASSERT_EQ(surface.curve.controls.size(), 5u);
+    EXPECT_EQ(surface.curve.controls[3], (Vec3f{-0.5f, -1, 0}));
+    EXPECT_EQ(surface.location.line, 7);  // after the camera, materials, Group, MaterialIndex and the curve's two lines
+    EXPECT_EQ(surface.location.column, 29);
+    EXPECT_EQ(objects[2].children.at(0).kind, ObjectDesc::Kind::RevSurface);
+    EXPECT_EQ(objects[2].children.at(0).curve.type, CurveType::Bezier);
+}
+
+TEST(ParseSceneTest, CurvesNeedNoMaterialAndAreNotDrawnWhichOneWarningSays) {
+    // The course's scene08: curves only, no Materials block, no MaterialIndex.
+    const SceneDesc desc = parse(kCamera + "Group { numObjects 3\n"
+                                           "  BezierCurve { controls [ 0 0 0 ] [ 1 1 0 ] [ 2 1 0 ] [ 3 0 0 ] }\n"
+                                           "  BsplineCurve { controls [ 0 0 0 ] [ 1 1 0 ] [ 2 1 0 ] [ 3 0 0 ] }\n"
+                                           "  BsplineCurve { controls [ 0 0 1 ] [ 1 1 0 ] [ 2 1 0 ] [ 3 0 0 ] [ 4 0 0 ] }\n}\n");
+    ASSERT_EQ(desc.root->children.size(), 3u);
+    EXPECT_TRUE(desc.materials.empty());
+    ASSERT_EQ(desc.warnings.size(), 1u);
+    EXPECT_EQ(located(desc.warnings[0]), "s.txt:3:3: BezierCurve is a curve, not a surface: raycast draws nothing for "
+                                         "it, as the course's ray caster does (3 curves in this file are not drawn)");
+    // A RevSurface, like any surface, takes the current material and needs one.
+    EXPECT_EQ(errors_of(kCamera + "Group { numObjects 1 RevSurface { profile BezierCurve { controls [ 0 1 0 ] [ 1 1 0 ] "
+                                  "[ 1 0 0 ] [ 2 -1 0 ] } } }"),
+              "s.txt:2:22: RevSurface has no material: put 'MaterialIndex i' before it\n");
+}
+
+TEST(ParseSceneTest, CurveMistakesAreLocated) {
+    const auto curve = [](const std::string& body) { return scene_with_group(1, body); };
+    // Too few points for the degree, and the Bezier counts the course's starter refuses (3k+1).
+    EXPECT_EQ(errors_of(curve("BsplineCurve { controls [ 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] }")),
+              "s.txt:5:1: a BsplineCurve of degree 3 needs at least 4 control points, got 3\n");
+    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] [ 4 0 0 ] }")),
+              "s.txt:5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 5\n");
+    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0 ] [ 1 0 0 ] }")),
+              "s.txt:5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 2\n");
+    EXPECT_EQ(errors_of(curve("BezierCurve { controls }")),
+              "s.txt:5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 0\n");
+    std::string many = "BezierCurve { controls";
+    for (int i = 0; i < kMaxBezierControlPoints + 3; ++i) many += " [ " + std::to_string(i) + " 0 0 ]";
+    EXPECT_EQ(errors_of(curve(many + " }")),
+              "s.txt:5:1: a BezierCurve may have at most 31 control points (degree 30), got 34: a BsplineCurve takes any "
+              "number\n");
+    // A profile off the z = 0 plane, at the first point that leaves it.
+    EXPECT_EQ(errors_of(curve("RevSurface { profile BezierCurve { controls [ 0 1 0 ] [ 1 1 0.5 ] [ 1 0 -1 ] [ 2 -1 0 ] } }")),
+              "s.txt:5:61: the profile of a RevSurface must lie in the z = 0 plane (it is turned about the y axis), but "
+              "this point has z = 0.5 (2 points are off the plane)\n");
+    // Brackets.
+    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0 [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
+              "s.txt:5:32: expected ']' to close the control point opened at line 5, column 24, got '['\n");
+    EXPECT_EQ(errors_of(curve("BezierCurve { controls 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
+              "s.txt:5:24: expected '[' to start a control point, got '0'\n");
+    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0 ] ] [ 2 0 0 ] [ 3 0 0 ] }")),
+              "s.txt:5:34: unexpected ']': no control point is open (is a '[' missing?)\n");
+    EXPECT_EQ(errors_of(curve("BezierCurve { controls [0 0 0] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
+              "s.txt:5:24: write '[' apart from the number after it: '[0' is read as one word\n");
+    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
+              "s.txt:5:30: write ']' apart from the number before it: '0]' is read as one word\n");
+    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
+              "s.txt:5:30: a control point has three numbers, x y z: expected its z, got ']'\n");
+    // The profile's type and the fields.
+    EXPECT_EQ(errors_of(curve("RevSurface { profile BezierCurv { controls [ 0 1 0 ] } }")),
+              "s.txt:5:22: unknown profile 'BezierCurv'; did you mean 'BezierCurve'?\n");
+    EXPECT_EQ(errors_of(curve("RevSurface { profile Circle { radius 1 } }")),
+              "s.txt:5:22: unknown profile 'Circle': expected BezierCurve or BsplineCurve\n");
+    EXPECT_EQ(errors_of(curve("RevSurface { }")), "s.txt:5:14: RevSurface is missing 'profile'\n");
+    EXPECT_EQ(errors_of(curve("BsplineCurve { control [ 0 0 0 ] }")),
+              "s.txt:5:16: unknown field 'control' in BsplineCurve; did you mean 'controls'?\n"
+              "s.txt:5:34: BsplineCurve is missing 'controls'\n");
+}
+
 // ---- a whole MIT 6.837 scene -----------------------------------------------------------------------
 
 TEST(ParseSceneTest, ReadsAnMitSceneWithEveryMitForm) {
