@@ -194,11 +194,15 @@ int run_render(const CliOptions& options) {
     if (options.stats) {
         const double mrays = total.milliseconds > 0 ? static_cast<double>(total.rays) / (total.milliseconds * 1000) : 0;
         std::printf("raycast-stats load_ms=%.3f build_ms=%.3f render_ms=%.3f rays=%llu mrays_per_s=%.3f "
-                    "triangles=%zu threads=%d hit_fraction=%.4f traversal=%s\n",
+                    "triangles=%zu threads=%d hit_fraction=%.4f traversal=%s rev_surfaces=%zu rev_surface_tests=%llu "
+                    "newton_iterations=%llu newton_failures=%llu\n",
                     load_ms, build_ms, render_ms, static_cast<unsigned long long>(total.rays), mrays,
                     scene.triangle_count(), threads,
                     total.rays ? static_cast<double>(total.hits) / static_cast<double>(total.rays) : 0.0,
-                    total.traversal.c_str());
+                    total.traversal.c_str(), scene.rev_surfaces.size(),
+                    static_cast<unsigned long long>(total.rev_surface.tests),
+                    static_cast<unsigned long long>(total.rev_surface.newton_iterations),
+                    static_cast<unsigned long long>(total.rev_surface.newton_failures));
     }
     return 0;
 }

@@ -126,6 +126,7 @@ public:
                 stats->rays += t.rays;
                 stats->hits += t.hits;
                 stats->nodes_visited += t.nodes_visited;
+                stats->rev_surface += t.rev_surface;
             }
             stats->milliseconds = timer.elapsed_ms();
             stats->threads = threads;
@@ -139,6 +140,7 @@ private:
     // pixel, and sharing a line with another thread's would make the two cores fight over it.
     struct alignas(64) WorkerTotals {
         uint64_t rays = 0, hits = 0, nodes_visited = 0;
+        RevSurfaceCounters rev_surface;  // the intersection's thread-local tally, taken after each tile
         // The tile's finished pixels, row by row, copied to the image at the end: neighbouring
         // tiles, rendered by different threads at once, share cache lines of the image (a row of
         // 16 pixels is 48 bytes), which pixel-by-pixel writes would bounce between cores.
@@ -147,6 +149,7 @@ private:
 
     void render_tile(int x_begin, int y_begin, int x_end, int y_end, WorkerTotals& totals) {
         const int tile_width = x_end - x_begin;
+        take_rev_surface_counters();  // drop whatever this thread counted before it rendered
         totals.tile_pixels.resize(static_cast<size_t>(tile_width) * static_cast<size_t>(y_end - y_begin));
         // Blocks of pixels small enough to form one packet of coherent rays.
         const int block_w = packet_width_ >= 16 ? 4 : (packet_width_ >= 4 ? 2 : 1);
@@ -186,6 +189,7 @@ private:
                         spp_ > 1 ? sums[k] / static_cast<float>(spp_) : sums[k];
             }
         store_tile(x_begin, y_begin, x_end, y_end, totals.tile_pixels.data());
+        totals.rev_surface += take_rev_surface_counters();
     }
 
     void store_tile(int x_begin, int y_begin, int x_end, int y_end, const Vec3f* colors) {

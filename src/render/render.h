@@ -48,6 +48,9 @@ struct RenderStats {
     uint64_t hits = 0;            ///< primary rays that hit something
     uint64_t nodes_visited = 0;   ///< BVH nodes (leaves) visited
     double milliseconds = 0;
+    /// Surfaces of revolution, on every ray (shadow rays too): tests, Newton steps, and roots
+    /// whose Newton polish did not converge (they keep their bracketed estimate).
+    RevSurfaceCounters rev_surface;
     int threads = 1;
     std::string traversal;        ///< which path traced the primary rays, e.g. "packet-avx512"
 };
