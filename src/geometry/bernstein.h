@@ -19,6 +19,19 @@ double eval_bernstein(const double* c, int degree, double u, double* derivative 
 /// `left` or `right` may be null. left[degree] == right[0], both the value at u.
 void split_bernstein(const double* c, int degree, double u, double* left, double* right);
 
+/// split_bernstein at u = ½ for a degree known at compile time: the subdivision step of root
+/// isolation, unrolled by the compiler.
+template <int kDegree>
+inline void split_bernstein_half(const double* c, double* left, double* right) {
+    double level[kDegree + 1];
+    for (int i = 0; i <= kDegree; ++i) level[i] = c[i];
+    for (int step = 0; step <= kDegree; ++step) {
+        left[step] = level[0];
+        right[kDegree - step] = level[kDegree - step];
+        for (int i = 0; i < kDegree - step; ++i) level[i] = 0.5 * (level[i] + level[i + 1]);
+    }
+}
+
 /// The weights C(m,i)·C(m,k−i)/C(2m,k) that make products of two degree-m polynomials:
 /// (a·b)_k = Σ_i w[k][i]·a_i·b_{k−i}, stored as w[k·(m + 1) + i] (zero where k − i is out of range).
 std::vector<double> bernstein_product_weights(int m);

@@ -33,9 +33,23 @@ struct ProfilePoint {
     double x, dx, y, dy;
 };
 
+// A cubic's value and derivative by de Casteljau, written out: the course's pieces are all cubic,
+// and the intersection evaluates them at every Newton step.
+inline double eval_cubic(const double* c, double u, double& derivative) {
+    const double a = c[0] + u * (c[1] - c[0]), b = c[1] + u * (c[2] - c[1]), e = c[2] + u * (c[3] - c[2]);
+    const double f = a + u * (b - a), g = b + u * (e - b);
+    derivative = 3 * (g - f);
+    return f + u * (g - f);
+}
+
 ProfilePoint profile_at(const RevSurface& s, uint32_t piece, double u) {
     const size_t offset = static_cast<size_t>(piece) * static_cast<size_t>(s.degree + 1);
     ProfilePoint p;
+    if (s.degree == 3) {
+        p.x = eval_cubic(&s.x[offset], u, p.dx);
+        p.y = eval_cubic(&s.y[offset], u, p.dy);
+        return p;
+    }
     p.x = eval_bernstein(&s.x[offset], s.degree, u, &p.dx);
     p.y = eval_bernstein(&s.y[offset], s.degree, u, &p.dy);
     return p;
@@ -47,6 +61,7 @@ ProfilePoint profile_at(const RevSurface& s, uint32_t piece, double u) {
 struct RaySetup {
     double ox = 0, oy = 0, oz = 0, dx = 0, dy = 0, dz = 0;
     double a = 0, b = 0, c = 0, tc = 0, h2 = 0, length_squared = 0, shift = 0;
+    double inverse_dy = 0, inverse_a = 0;  // 0 where d_y or a is 0
 
     void move_origin(double by) {
         ox += by * dx;
@@ -55,7 +70,7 @@ struct RaySetup {
         shift += by;
         b = ox * dx + oz * dz;
         c = ox * ox + oz * oz;
-        tc = a > 0 ? -b / a : 0;
+        tc = -b * inverse_a;
         // h² as a square of the closest point, not c − b²/a, which cancels far from the axis.
         const double px = ox + tc * dx, pz = oz + tc * dz;
         h2 = px * px + pz * pz;
@@ -79,6 +94,8 @@ bool make_ray_setup(const Ray& ray, RaySetup& r) {
     if (!(r.length_squared > 0) || !std::isfinite(r.length_squared) || !std::isfinite(r.ox) || !std::isfinite(r.oy) ||
         !std::isfinite(r.oz))
         return false;
+    r.inverse_dy = r.dy != 0 ? 1 / r.dy : 0;
+    r.inverse_a = r.a > 0 ? 1 / r.a : 0;
     r.move_origin(0);
     return true;
 }
@@ -87,7 +104,7 @@ bool make_ray_setup(const Ray& ray, RaySetup& r) {
 // cylinder, and not inside the inner one all along. False if nothing is left.
 bool clip_to_ring(const ProfileNode& node, const RaySetup& r, double& lo, double& hi) {
     if (r.dy != 0) {
-        double t0 = (node.y_min - r.oy) / r.dy, t1 = (node.y_max - r.oy) / r.dy;
+        double t0 = (node.y_min - r.oy) * r.inverse_dy, t1 = (node.y_max - r.oy) * r.inverse_dy;
         if (t0 > t1) std::swap(t0, t1);
         lo = std::max(lo, t0);
         hi = std::min(hi, t1);
@@ -97,7 +114,7 @@ bool clip_to_ring(const ProfileNode& node, const RaySetup& r, double& lo, double
     if (!(lo <= hi)) return false;
     const double outer = node.radius_max * node.radius_max;
     if (r.a > 0) {
-        const double reach = (outer - r.h2) / r.a;
+        const double reach = (outer - r.h2) * r.inverse_a;
         if (reach < 0) return false;
         const double half = std::sqrt(reach);
         lo = std::max(lo, r.tc - half);
@@ -223,7 +240,52 @@ private:
         intervals_ = 0;
         lo_ = lo;
         hi_ = hi;
+        // A ring is met twice, on the way in and out, on either side of the ray's closest approach
+        // to the axis (τ = tc). The piece is monotone in y, so τ(u) = D(u)/d_y is too, and cutting
+        // at the u where τ = tc parts the two at once: near-horizontal rays meet a ring at nearly
+        // the same u, which halving would take many steps to tell apart.
+        double cut = 0;
+        if (sign_changes(f, 2 * m) >= 2 && split_at_closest_approach(piece, d, cut)) {
+            double f_near[kMaxF + 1], f_far[kMaxF + 1], d_near[kMaxF / 2 + 1], d_far[kMaxF / 2 + 1];
+            split_bernstein(f, 2 * m, cut, f_near, f_far);
+            split_bernstein(d, m, cut, d_near, d_far);
+            // The part before the cut holds the smaller τ when τ grows with u.
+            const bool rising = (d[m] - d[0]) * r_.dy > 0;
+            if (rising) {
+                isolate<kMaxF>(piece, f_near, d_near, 0, cut, 1);
+                isolate<kMaxF>(piece, f_far, d_far, cut, 1 - cut, 1);
+            } else {
+                isolate<kMaxF>(piece, f_far, d_far, cut, 1 - cut, 1);
+                isolate<kMaxF>(piece, f_near, d_near, 0, cut, 1);
+            }
+            return;
+        }
         isolate<kMaxF>(piece, f, d, 0, 1, 0);
+    }
+
+    // The u in (0, 1) where the piece reaches the height of the ray's closest approach to the axis,
+    // D(u) = tc·d_y, if it does: Newton steps on the monotone D from the chord's estimate, kept
+    // inside the bracket. It need not be exact: any cut between the two roots parts them.
+    bool split_at_closest_approach(uint32_t piece, const double* d, double& cut) const {
+        const int m = s_.degree;
+        const double target = r_.tc * r_.dy;
+        double lo = 0, hi = 1;
+        const double g0 = d[0] - target, g1 = d[m] - target;
+        if (!((g0 < 0 && g1 > 0) || (g0 > 0 && g1 < 0))) return false;
+        const double* ys = &s_.y[static_cast<size_t>(piece) * static_cast<size_t>(m + 1)];
+        double u = g0 / (g0 - g1);
+        for (int step = 0; step < 4; ++step) {
+            double slope;
+            const double g = (m == 3 ? eval_cubic(ys, u, slope) : eval_bernstein(ys, m, u, &slope)) - r_.oy - target;
+            if ((g < 0) == (g0 < 0))
+                lo = u;
+            else
+                hi = u;
+            const double next = u - g / slope;
+            u = next > lo && next < hi ? next : 0.5 * (lo + hi);
+        }
+        cut = u;
+        return cut > 0 && cut < 1;
     }
 
     // The τ range over an interval whose D coefficients are `d`: τ = D/d_y, and D lies in their hull.
@@ -261,7 +323,11 @@ private:
         // sign leave no root there.
         if (!positive || !negative) return;
         if (sign_changes(f, n) == 1 && f[0] != 0 && f[n] != 0) {
-            refine(piece, start, start + width, f[0] > 0);
+            // Start where the control polygon crosses zero (the first step of Bezier clipping).
+            int k = 0;
+            while (k + 1 < n && (f[k + 1] > 0) == (f[0] > 0)) ++k;
+            const double crossing = (k + f[k] / (f[k] - f[k + 1])) / n;
+            refine(piece, start, start + width, start + width * crossing, f[0] > 0);
             return;
         }
         if (depth == kMaxDepth) {
@@ -269,8 +335,13 @@ private:
             return;
         }
         double f_left[kMaxF + 1], f_right[kMaxF + 1], d_left[kMaxF / 2 + 1], d_right[kMaxF / 2 + 1];
-        split_bernstein(f, n, 0.5, f_left, f_right);
-        split_bernstein(d, m, 0.5, d_left, d_right);
+        if (kMaxF == 6) {
+            split_bernstein_half<6>(f, f_left, f_right);
+            split_bernstein_half<3>(d, d_left, d_right);
+        } else {
+            split_bernstein(f, n, 0.5, f_left, f_right);
+            split_bernstein(d, m, 0.5, d_left, d_right);
+        }
         double left_low, right_low, unused;
         tau_range(d_left, m, left_low, unused);
         tau_range(d_right, m, right_low, unused);
@@ -286,8 +357,7 @@ private:
 
     // The one root of F in [lo, hi] (F's sign at lo is given): Newton steps on u, each replaced by
     // a bisection when it would leave the bracket, so it always converges.
-    void refine(uint32_t piece, double lo, double hi, bool positive_at_lo) {
-        double u = 0.5 * (lo + hi);
+    void refine(uint32_t piece, double lo, double hi, double u, bool positive_at_lo) {
         for (int step = 0; step < 100; ++step) {
             const ProfilePoint p = profile_at(s_, piece, u);
             const double d = p.y - r_.oy;
@@ -301,7 +371,9 @@ private:
                 hi = u;
             double next = u - value / slope;
             if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-            const bool converged = std::fabs(next - u) <= 1e-15 || hi - lo <= 1e-15;
+            // Newton's error squares at each step: after a step of 1e-7 it is about 1e-14·F''/F',
+            // which moves the point far less than float precision.
+            const bool converged = std::fabs(next - u) <= 1e-7 || hi - lo <= 1e-14;
             u = next;
             if (converged) break;
         }
