@@ -30,9 +30,9 @@ struct RootList {
 };
 
 // The root of the polynomial `c` (over [0, 1]) inside [lo, hi], where it changes sign once (its
-// sign at lo is `sign_lo`): Newton steps, replaced by bisection whenever they leave the bracket.
-double refine_root(const double* c, int degree, double lo, double hi, double sign_lo) {
-    double u = 0.5 * (lo + hi);
+// sign at lo is `sign_lo`): Newton steps from `u`, replaced by bisection whenever they leave the
+// bracket.
+double refine_root(const double* c, int degree, double lo, double hi, double u, double sign_lo) {
     for (int iteration = 0; iteration < 100; ++iteration) {
         double slope = 0;
         const double value = eval_bernstein(c, degree, u, &slope);
@@ -52,16 +52,11 @@ double refine_root(const double* c, int degree, double lo, double hi, double sig
 void isolate(const double* original, int degree, const double* c, double start, double width, int depth,
              RootList& out) {
     if (++out.intervals > kMaxIntervals) return;
-    bool positive = false, negative = false;
-    for (int i = 0; i <= degree; ++i) {
-        positive |= c[i] > 0;
-        negative |= c[i] < 0;
-    }
-    // Each basis polynomial is positive inside (0, 1): coefficients of one sign (zeros allowed)
-    // leave no root inside the interval.
-    if (!positive || !negative) return;
-    if (sign_changes(c, degree) == 1 && c[0] != 0 && c[degree] != 0) {
-        out.add(refine_root(original, degree, start, start + width, c[0]));
+    const RootsInside roots = roots_inside(c, degree);
+    if (roots == RootsInside::None) return;
+    if (roots == RootsInside::OneBracketed) {
+        out.add(refine_root(original, degree, start, start + width,
+                            start + width * control_polygon_crossing(c, degree), c[0]));
         return;
     }
     if (depth == kMaxSubdivisionDepth) {
@@ -125,6 +120,24 @@ int sign_changes(const double* c, int degree) {
         previous = c[i];
     }
     return changes;
+}
+
+RootsInside roots_inside(const double* c, int degree) {
+    bool positive = false, negative = false;
+    for (int i = 0; i <= degree; ++i) {
+        positive |= c[i] > 0;
+        negative |= c[i] < 0;
+    }
+    if (!positive || !negative) return RootsInside::None;
+    if (sign_changes(c, degree) == 1 && c[0] != 0 && c[degree] != 0) return RootsInside::OneBracketed;
+    return RootsInside::Unknown;
+}
+
+double control_polygon_crossing(const double* c, int degree) {
+    int k = 0;
+    while (k + 1 < degree && (c[k + 1] > 0) == (c[0] > 0)) ++k;
+    if (c[k] == c[k + 1]) return 0.5;
+    return (k + c[k] / (c[k] - c[k + 1])) / degree;
 }
 
 int bernstein_roots(const double* c, int degree, double* roots) {

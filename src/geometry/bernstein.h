@@ -43,6 +43,18 @@ void multiply_bernstein(const double* a, const double* b, int m, const double* w
 /// in (0, 1), and of the same parity.
 int sign_changes(const double* c, int degree);
 
+/// What the coefficients tell about the roots strictly inside the interval.
+enum class RootsInside {
+    None,          ///< all of one sign (zeros allowed): every basis polynomial is positive inside
+    OneBracketed,  ///< one sign change and neither end zero: exactly one root, between the ends
+    Unknown,       ///< several sign changes, or one with a zero end: subdivide to know
+};
+RootsInside roots_inside(const double* c, int degree);
+
+/// Where the control polygon (i/n, c_i) first crosses zero, in [0, 1]: for RootsInside::OneBracketed,
+/// a good first guess of the root (the first step of Bezier clipping).
+double control_polygon_crossing(const double* c, int degree);
+
 /// The roots in [0, 1], ascending, at most `degree` of them (a root where the polynomial only
 /// touches zero, or a cluster closer than about 1e-12, counts once). Returns how many were written.
 /// A polynomial that is zero everywhere has none.

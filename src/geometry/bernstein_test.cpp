@@ -94,6 +94,20 @@ TEST(BernsteinTest, SignChangesSkipZeros) {
     EXPECT_EQ(sign_changes(d, 2), 0);
 }
 
+TEST(BernsteinTest, TellsWhatTheCoefficientsSayAboutRoots) {
+    const double positive[] = {1, 0, 2, 0.5};
+    EXPECT_EQ(roots_inside(positive, 3), RootsInside::None);
+    const double one[] = {-1, -0.5, 2, 3};
+    EXPECT_EQ(roots_inside(one, 3), RootsInside::OneBracketed);
+    // The control polygon (0, −1), (⅓, −0.5), (⅔, 2), (1, 3) crosses zero on its middle edge,
+    // at ⅓ + ⅓·0.5/2.5 = 0.4.
+    EXPECT_NEAR(control_polygon_crossing(one, 3), 0.4, 1e-15);
+    const double two[] = {1, -1, 1};
+    EXPECT_EQ(roots_inside(two, 2), RootsInside::Unknown);
+    const double zero_end[] = {0, -1, 1};
+    EXPECT_EQ(roots_inside(zero_end, 2), RootsInside::Unknown);
+}
+
 TEST(BernsteinTest, FindsSimpleRoots) {
     const std::vector<double> roots = roots_of(from_roots({0.1, 0.5, 0.9}));
     ASSERT_EQ(roots.size(), 3u);

@@ -314,20 +314,10 @@ private:
         if (high < std::max(lo_, tau_min_) - slack || low > std::min(hi_, tau_max_) + slack) return;
         if (f[0] == 0) offer_root(piece, start);
         if (f[n] == 0) offer_root(piece, start + width);
-        bool positive = false, negative = false;
-        for (int k = 0; k <= n; ++k) {
-            positive |= f[k] > 0;
-            negative |= f[k] < 0;
-        }
-        // Every Bernstein basis polynomial is positive inside the interval: coefficients of one
-        // sign leave no root there.
-        if (!positive || !negative) return;
-        if (sign_changes(f, n) == 1 && f[0] != 0 && f[n] != 0) {
-            // Start where the control polygon crosses zero (the first step of Bezier clipping).
-            int k = 0;
-            while (k + 1 < n && (f[k + 1] > 0) == (f[0] > 0)) ++k;
-            const double crossing = (k + f[k] / (f[k] - f[k + 1])) / n;
-            refine(piece, start, start + width, start + width * crossing, f[0] > 0);
+        const RootsInside roots = roots_inside(f, n);
+        if (roots == RootsInside::None) return;
+        if (roots == RootsInside::OneBracketed) {
+            refine(piece, start, start + width, start + width * control_polygon_crossing(f, n), f[0] > 0);
             return;
         }
         if (depth == kMaxDepth) {

@@ -588,47 +588,50 @@ TEST(ParseSceneTest, CurvesNeedNoMaterialAndAreNotDrawnWhichOneWarningSays) {
 }
 
 TEST(ParseSceneTest, CurveMistakesAreLocated) {
-    const auto curve = [](const std::string& body) { return scene_with_group(1, body); };
-    // Too few points for the degree, and the Bezier counts the course's starter refuses (3k+1).
-    EXPECT_EQ(errors_of(curve("BsplineCurve { controls [ 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] }")),
-              "s.txt:5:1: a BsplineCurve of degree 3 needs at least 4 control points, got 3\n");
-    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] [ 4 0 0 ] }")),
-              "s.txt:5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 5\n");
-    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0 ] [ 1 0 0 ] }")),
-              "s.txt:5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 2\n");
-    EXPECT_EQ(errors_of(curve("BezierCurve { controls }")),
-              "s.txt:5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 0\n");
+    // Each body is the only object of a group whose first line is line 5; columns by hand.
     std::string many = "BezierCurve { controls";
     for (int i = 0; i < kMaxBezierControlPoints + 3; ++i) many += " [ " + std::to_string(i) + " 0 0 ]";
-    EXPECT_EQ(errors_of(curve(many + " }")),
-              "s.txt:5:1: a BezierCurve may have at most 31 control points (degree 30), got 34: a BsplineCurve takes any "
-              "number\n");
-    // A profile off the z = 0 plane, at the first point that leaves it.
-    EXPECT_EQ(errors_of(curve("RevSurface { profile BezierCurve { controls [ 0 1 0 ] [ 1 1 0.5 ] [ 1 0 -1 ] [ 2 -1 0 ] } }")),
-              "s.txt:5:61: the profile of a RevSurface must lie in the z = 0 plane (it is turned about the y axis), but "
-              "this point has z = 0.5 (2 points are off the plane)\n");
-    // Brackets.
-    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0 [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
-              "s.txt:5:32: expected ']' to close the control point opened at line 5, column 24, got '['\n");
-    EXPECT_EQ(errors_of(curve("BezierCurve { controls 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
-              "s.txt:5:24: expected '[' to start a control point, got '0'\n");
-    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0 ] ] [ 2 0 0 ] [ 3 0 0 ] }")),
-              "s.txt:5:34: unexpected ']': no control point is open (is a '[' missing?)\n");
-    EXPECT_EQ(errors_of(curve("BezierCurve { controls [0 0 0] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
-              "s.txt:5:24: write '[' apart from the number after it: '[0' is read as one word\n");
-    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 0] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
-              "s.txt:5:30: write ']' apart from the number before it: '0]' is read as one word\n");
-    EXPECT_EQ(errors_of(curve("BezierCurve { controls [ 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }")),
-              "s.txt:5:30: a control point has three numbers, x y z: expected its z, got ']'\n");
-    // The profile's type and the fields.
-    EXPECT_EQ(errors_of(curve("RevSurface { profile BezierCurv { controls [ 0 1 0 ] } }")),
-              "s.txt:5:22: unknown profile 'BezierCurv'; did you mean 'BezierCurve'?\n");
-    EXPECT_EQ(errors_of(curve("RevSurface { profile Circle { radius 1 } }")),
-              "s.txt:5:22: unknown profile 'Circle': expected BezierCurve or BsplineCurve\n");
-    EXPECT_EQ(errors_of(curve("RevSurface { }")), "s.txt:5:14: RevSurface is missing 'profile'\n");
-    EXPECT_EQ(errors_of(curve("BsplineCurve { control [ 0 0 0 ] }")),
-              "s.txt:5:16: unknown field 'control' in BsplineCurve; did you mean 'controls'?\n"
-              "s.txt:5:34: BsplineCurve is missing 'controls'\n");
+    const struct {
+        std::string body, error;
+    } cases[] = {
+        // Too few points for the degree, and the Bezier counts the course's starter refuses (3k+1).
+        {"BsplineCurve { controls [ 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] }",
+         "5:1: a BsplineCurve of degree 3 needs at least 4 control points, got 3"},
+        {"BezierCurve { controls [ 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] [ 4 0 0 ] }",
+         "5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 5"},
+        {"BezierCurve { controls [ 0 0 0 ] [ 1 0 0 ] }",
+         "5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 2"},
+        {"BezierCurve { controls }",
+         "5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 0"},
+        {many + " }",
+         "5:1: a BezierCurve may have at most 31 control points (degree 30), got 34: a BsplineCurve takes any number"},
+        // A profile off the z = 0 plane, at the first point that leaves it.
+        {"RevSurface { profile BezierCurve { controls [ 0 1 0 ] [ 1 1 0.5 ] [ 1 0 -1 ] [ 2 -1 0 ] } }",
+         "5:61: the profile of a RevSurface must lie in the z = 0 plane (it is turned about the y axis), but this "
+         "point has z = 0.5 (2 points are off the plane)"},
+        // Brackets.
+        {"BezierCurve { controls [ 0 0 0 [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:32: expected ']' to close the control point opened at line 5, column 24, got '['"},
+        {"BezierCurve { controls 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:24: expected '[' to start a control point, got '0'"},
+        {"BezierCurve { controls [ 0 0 0 ] ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:34: unexpected ']': no control point is open (is a '[' missing?)"},
+        {"BezierCurve { controls [0 0 0] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:24: write '[' apart from the number after it: '[0' is read as one word"},
+        {"BezierCurve { controls [ 0 0 0] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:30: write ']' apart from the number before it: '0]' is read as one word"},
+        {"BezierCurve { controls [ 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:30: a control point has three numbers, x y z: expected its z, got ']'"},
+        // The profile's type and the fields.
+        {"RevSurface { profile BezierCurv { controls [ 0 1 0 ] } }",
+         "5:22: unknown profile 'BezierCurv'; did you mean 'BezierCurve'?"},
+        {"RevSurface { profile Circle { radius 1 } }", "5:22: unknown profile 'Circle': expected BezierCurve or BsplineCurve"},
+        {"RevSurface { }", "5:14: RevSurface is missing 'profile'"},
+        {"BsplineCurve { control [ 0 0 0 ] }",
+         "5:16: unknown field 'control' in BsplineCurve; did you mean 'controls'?\ns.txt:5:34: BsplineCurve is missing "
+         "'controls'"},
+    };
+    for (const auto& c : cases) EXPECT_EQ(errors_of(scene_with_group(1, c.body)), "s.txt:" + c.error + "\n") << c.body;
 }
 
 // ---- a whole MIT 6.837 scene -----------------------------------------------------------------------
