@@ -60,6 +60,13 @@ TEST(RevSurfaceTest, CylinderHitsWorkedOutByHand) {
     ASSERT_TRUE(hit_of(s, {{0, -3, 5}, {0, 3, -4}}, hit));
     EXPECT_FLOAT_EQ(hit.t, 1);
     EXPECT_NEAR(hit.u, 0.5f, 1e-6f);
+    // Whatever the slope, the wall at z = 1 is at t = 4 to float precision: either side of the
+    // slopes below which the intersection treats a ray as horizontal (1e-5) or polishes its root
+    // with Newton's method on (u, t) (1e-3).
+    for (float slope : {1e-9f, 1e-6f, 9e-6f, 1.2e-5f, 1e-4f, 9e-4f, 1.1e-3f, 0.01f, -0.2f}) {
+        ASSERT_TRUE(hit_of(s, {{0, 0, 5}, {0, slope, -1}}, hit)) << slope;
+        EXPECT_FLOAT_EQ(hit.t, 4) << slope;
+    }
     // The direction is not normalised: twice as long, half the t.
     ASSERT_TRUE(hit_of(s, {{0, 0, 5}, {0, 0, -2}}, hit));
     EXPECT_FLOAT_EQ(hit.t, 2);
@@ -287,13 +294,15 @@ TEST(RevSurfaceTest, AgreesWithBruteForceOnRandomRays) {
             const Vec3f target = surface_point(profile, param(rng), angle(rng));
             check_ray(s, profile, dense, {origin, (target - origin) * (0.3f + std::fabs(unit(rng)))}, index, outcome);
         }
-        for (int i = 0; i < 150; ++i, ++index) {  // horizontal, exactly and nearly
+        for (int i = 0; i < 180; ++i, ++index) {  // horizontal, exactly and nearly
             Vec3f origin = random_origin();
             const Vec3f target = surface_point(profile, param(rng), angle(rng));
             origin.y = target.y;
             Vec3f d = target - origin;
-            const float tilt[] = {0, 1e-9f, 1e-6f, 2e-4f, 3e-3f};
-            d.y = tilt[i % 5] * length(d) * (unit(rng) > 0 ? 1 : -1);
+            // Exactly horizontal, then either side of the 1e-5 below which the intersection treats
+            // a ray as horizontal and of the 1e-3 below which it polishes with Newton on (u, t).
+            const float tilt[] = {0, 1e-9f, 1e-6f, 9e-6f, 1.2e-5f, 2e-4f, 9e-4f, 1.1e-3f, 3e-3f};
+            d.y = tilt[i % 9] * length(d) * (unit(rng) > 0 ? 1 : -1);
             check_ray(s, profile, dense, {origin, d}, index, outcome);
         }
         for (int i = 0; i < 100; ++i, ++index) {  // vertical, some exactly on the axis
