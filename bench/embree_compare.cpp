@@ -123,10 +123,14 @@ void flatten(const SceneDesc& desc, const ObjectDesc& object, const Mat4& world_
             for (uint32_t index : mesh.indices) out.indices.push_back(base + index);
             return;
         }
+        case ObjectDesc::Kind::Curve:
+            return;  // draws nothing
         case ObjectDesc::Kind::Sphere:
         case ObjectDesc::Kind::Plane:
+        case ObjectDesc::Kind::RevSurface:
             throw std::runtime_error(object.location.file + ":" + std::to_string(object.location.line) +
-                                     ": only triangles are compared with Embree; this scene has a sphere or plane");
+                                     ": only triangles are compared with Embree; this scene has a sphere, plane or "
+                                     "surface of revolution");
     }
 }
 

@@ -153,6 +153,10 @@ void prepare_objects(ObjectDesc& object, Moderate& moderate) {
             for (const auto& row : object.world_from_object.m)
                 for (float v : row) moderate(v);
             break;
+        case ObjectDesc::Kind::Curve:
+        case ObjectDesc::Kind::RevSurface:
+            for (const Vec3f& v : object.curve.controls) moderate(v);
+            break;
         case ObjectDesc::Kind::Group:
             break;
     }

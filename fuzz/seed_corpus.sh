@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Puts the seed inputs of the fuzz targets into BUILD/corpus-<target>/, next to whatever earlier
 # runs found there (so repeated runs grow the corpus; delete the folders to start afresh):
-#   corpus-fuzz_scene_parser: testcases/*.txt
+#   corpus-fuzz_scene_parser: testcases/*.txt and scenes/revolution.txt (curves, RevSurface)
 #   corpus-fuzz_obj_loader:   mesh/*.obj and a few small files for the index forms
 #   corpus-fuzz_image_decode: a small render of testcases/scene01_basic.txt written by the
 #                             raycast program of BUILD as .bmp .ppm .tga (and .png when built
@@ -25,7 +25,7 @@ image_dir="$build/corpus-fuzz_image_decode"
 mkdir -p "$scene_dir" "$obj_dir" "$image_dir"
 
 # ---- scenes and meshes: the project's own files ----
-cp testcases/*.txt "$scene_dir/"
+cp testcases/*.txt scenes/revolution.txt "$scene_dir/"
 cp mesh/*.obj "$obj_dir/"
 # Index forms the project's meshes do not use: v/t/n, v//n, v/t, negative indices, polygons,
 # comments, CRLF and a byte order mark.

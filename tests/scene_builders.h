@@ -45,6 +45,23 @@ inline ObjectDesc mesh_object(int mesh, int material = 0) {
     return o;
 }
 
+/// A BezierCurve or BsplineCurve on its own (it draws nothing).
+inline ObjectDesc curve_object(Curve curve) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::Curve;
+    o.curve = std::move(curve);
+    return o;
+}
+
+/// A RevSurface turning `profile` about the y axis.
+inline ObjectDesc rev_surface(Curve profile, int material = 0) {
+    ObjectDesc o;
+    o.kind = ObjectDesc::Kind::RevSurface;
+    o.curve = std::move(profile);
+    o.material = material;
+    return o;
+}
+
 inline ObjectDesc transform(const Mat4& m, ObjectDesc child, SourceLocation location = {}) {
     ObjectDesc o;
     o.kind = ObjectDesc::Kind::Transform;

@@ -26,11 +26,17 @@ showcase scenes/showcase.txt "$out/mode_cost.png" --mode cost
 showcase scenes/showcase.txt "$out/thin_lens.png" --aperture 0.6 --focus-distance 7.2 --spp 64 --shadows
 showcase scenes/showcase_ortho.txt "$out/orthographic.png" --shadows --spp 16
 render scenes/raytracing.txt "$out/raytracing.png" --shadows --transparent-shadows --bounces 8 --spp 16
+showcase scenes/revolution.txt "$out/revolution.png" --shadows --spp 16
+showcase scenes/revolution.txt "$out/revolution_normals.png" --mode normals
 "$raycast" compare "$out/showcase_course.png" "$out/showcase_spp16.png" --diff "$out/compare_diff.png" >/dev/null
 
 if [ -d ../shared/course/testcases ]; then
   root="$PWD"; (cd ../shared/course && "$root/$raycast" --quiet testcases/scene06_bunny_1k.txt "$root/$out/course_scene06.png") ||
     echo "make_doc_images: course scene failed" >&2
+fi
+if [ -d ../shared/course-pa3/testcases ]; then
+  render ../shared/course-pa3/testcases/scene10_wineglass.txt "$out/course_scene10.png" ||
+    echo "make_doc_images: course scene 10 failed" >&2
 fi
 if [ -d ../shared/reference/mit6837-f04/a2 ]; then
   root="$PWD"

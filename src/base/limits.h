@@ -20,6 +20,11 @@ constexpr int kMaxReportedErrors = 20;
 /// multiply coordinate differences, and beyond this the products overflow single precision.
 constexpr float kMaxCoordinate = 1e18f;
 
+/// A BezierCurve has at most this many control points (degree 30): a ray meets a surface of
+/// revolution where a polynomial of twice the curve's degree vanishes, and the intersection keeps
+/// those in fixed-size arrays on the stack. Longer profiles are BsplineCurves, which have no limit.
+constexpr int kMaxBezierControlPoints = 31;
+
 /// Largest scene file read (meshes belong in OBJ files, which have no such limit).
 constexpr int64_t kMaxSceneFileBytes = int64_t{256} << 20;
 

@@ -455,6 +455,12 @@ Hit brute_force(const Scene& scene, const Ray& world_ray, float t_min) {
                 }
                 break;
             }
+            case ShapeKind::RevSurface: {
+                RevSurfaceHit r;
+                if (intersect_rev_surface(scene.rev_surfaces[inst.shape], ray, t_min, INFINITY, false, r))
+                    offer(best, r.t, r.u, 0, id, r.piece);
+                break;
+            }
         }
     }
     return best;

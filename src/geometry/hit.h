@@ -11,9 +11,11 @@ constexpr uint32_t kNoObject = std::numeric_limits<uint32_t>::max();
 
 struct Hit {
     float t = std::numeric_limits<float>::infinity();
-    float u = 0, v = 0;         ///< barycentric weights of a triangle's vertices 1 and 2
+    float u = 0, v = 0;         ///< barycentric weights of a triangle's vertices 1 and 2; a surface of
+                                ///< revolution's profile parameter in u (on piece `prim`)
     uint32_t object = kNoObject;  ///< the object's place in the scene file (its order)
-    uint32_t prim = 0;          ///< the triangle's index in its mesh; 0 for other shapes
+    uint32_t prim = 0;          ///< the triangle's index in its mesh; a surface of revolution's piece;
+                                ///< 0 for other shapes
     /// A mesh triangle's place in its mesh's leaf order (MeshShape::leaf_triangles), where
     /// surface_at finds its corners next to those just tested rather than through the index
     /// list (two more cache misses per pixel on a big mesh). 0 for other shapes.

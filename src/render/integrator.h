@@ -29,6 +29,7 @@ struct RayCounts {
     uint64_t occlusion = 0;     ///< ambient occlusion
     uint64_t nodes_visited = 0; ///< BVH nodes visited by camera rays (cost mode only)
     uint64_t truncated = 0;     ///< camera samples whose ray tree hit kMaxRaysPerSample
+    RevSurfaceCounters rev_surface;  ///< surfaces of revolution: tests, Newton steps, failures
 
     uint64_t total() const { return primary + shadow + secondary + occlusion; }
     RayCounts& operator+=(const RayCounts& other);

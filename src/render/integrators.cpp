@@ -16,6 +16,7 @@ RayCounts& RayCounts::operator+=(const RayCounts& other) {
     occlusion += other.occlusion;
     nodes_visited += other.nodes_visited;
     truncated += other.truncated;
+    rev_surface += other.rev_surface;
     return *this;
 }
 

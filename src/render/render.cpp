@@ -155,6 +155,7 @@ public:
             stats->hits = counts.primary_hits;
             stats->nodes_visited = counts.nodes_visited;
             stats->truncated_samples = counts.truncated;
+            stats->rev_surface = counts.rev_surface;
             stats->milliseconds = timer.elapsed_ms();
             stats->cancelled = stopped;
             stats->threads = threads;
@@ -176,6 +177,7 @@ private:
 
     void render_tile(int x_begin, int y_begin, int x_end, int y_end, WorkerState& worker) {
         const int tile_width = x_end - x_begin;
+        take_rev_surface_counters();  // drop whatever this thread counted before it rendered
         const size_t tile_pixels = static_cast<size_t>(tile_width) * static_cast<size_t>(y_end - y_begin);
         worker.tile_colors.resize(tile_pixels);
         if (targets_.normal_bytes) worker.tile_normals.resize(tile_pixels);
@@ -239,6 +241,7 @@ private:
                    targets_.color_bytes);
         if (targets_.normal_bytes)
             store_tile(x_begin, y_begin, x_end, y_end, worker.tile_normals.data(), nullptr, targets_.normal_bytes);
+        worker.counts.rev_surface += take_rev_surface_counters();
     }
 
     static void store_tile(int x_begin, int y_begin, int x_end, int y_end, const Vec3f* colors, Image* floats,

@@ -26,6 +26,9 @@ struct RenderStats {
     uint64_t truncated_samples = 0;  ///< camera samples whose ray tree reached kMaxRaysPerSample
     double milliseconds = 0;
     bool cancelled = false;       ///< options.cancelled stopped it: the image is incomplete
+    /// Surfaces of revolution, on every ray (shadow rays too): tests, Newton steps, and roots
+    /// whose Newton polish did not converge (they keep their bracketed estimate).
+    RevSurfaceCounters rev_surface;
     int threads = 1;
     std::string traversal;        ///< which path traced the primary rays, e.g. "packet-avx512"
 };

@@ -126,6 +126,8 @@ private:
                 for (const ObjectDesc& child : object.children) add_object(child, combined, combined_moved);
                 return;
             }
+            case ObjectDesc::Kind::Curve:
+                return;  // a curve alone is not a surface: nothing to see (the parser says so)
             default:
                 add_primitive(object, world_from_object, moved);
         }
@@ -182,6 +184,17 @@ private:
                 for (const Vec3f& p : object.vertices) b.grow(moved ? transform_point(world_from_object, p) : p);
                 bounds_.push_back({pad(b), id});
                 check_extent(object, b);
+                break;
+            }
+            case ObjectDesc::Kind::RevSurface: {
+                instance.kind = ShapeKind::RevSurface;
+                instance.shape = static_cast<uint32_t>(scene_.rev_surfaces.size());
+                scene_.rev_surfaces.push_back(make_rev_surface(object.curve));
+                const RevSurface& surface = scene_.rev_surfaces.back();
+                if (surface.nodes.empty()) return;  // every control point the same: a point, never hit
+                // Tight even when rotated: the boxes of the cylinders around the monotone pieces.
+                bounds_.push_back({pad(rev_surface_bounds(surface, world_from_object)), id});
+                check_extent(object, bounds_.back().bounds);
                 break;
             }
             case ObjectDesc::Kind::TriangleMesh: {

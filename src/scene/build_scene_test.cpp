@@ -114,6 +114,43 @@ TEST(BuildSceneTest, TIsTheRayParameterForNonUnitDirectionsThroughTransforms) {
     expect_vec_near(hit.normal, hit.position - Vec3f{1, 0, 1});
 }
 
+TEST(BuildSceneTest, SurfaceOfRevolutionIsPlacedByItsTransformAndCurvesAddNothing) {
+    // The cylinder x = 1, y ∈ [−1.5, 1.5] (a cubic Bezier of equally spaced points), stretched
+    // ×2 along x and moved to x = 2: an elliptic cylinder with half-axes 2 (x) and 1 (z). A curve
+    // beside it is not a surface and adds no instance.
+    const Curve cylinder{CurveType::Bezier, {{1, -1.5f, 0}, {1, -0.5f, 0}, {1, 0.5f, 0}, {1, 1.5f, 0}}};
+    const Scene scene = build_scene(
+        scene_with(group({curve_object(cylinder),
+                          transform(Mat4::translate({2, 0, 0}) * Mat4::scale({2, 1, 1}), rev_surface(cylinder))})),
+        {});
+    ASSERT_EQ(scene.instances.size(), 1u);
+    EXPECT_EQ(scene.instances[0].kind, ShapeKind::RevSurface);
+    // The instance box is the cylinder's: x ∈ [0, 4], y ∈ [−1.5, 1.5], z ∈ [−1, 1] (plus a pad of 1/65536).
+    const Bounds3f box = scene.instance_bvh.nodes[0].bounds;
+    expect_vec_near(box.lower, {0, -1.5f, -1}, 1e-3f);
+    expect_vec_near(box.upper, {4, 1.5f, 1}, 1e-3f);
+    // Front (z = 1) and side (x = 4), with normals along the axes.
+    Traced hit = trace(scene, {2, 0, 10}, {0, 0, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 9, 1e-5);
+    expect_vec_near(hit.normal, {0, 0, 1});
+    hit = trace(scene, {10, 0.5f, 0}, {-2, 0, 0});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 3, 1e-5);
+    expect_vec_near(hit.normal, {1, 0, 0});
+    // At the object's θ = 45° the point is (2 + √2, y, √2/2); the object normal (cos θ, 0, sin θ)
+    // goes through the inverse transpose, diag(1/2, 1, 1): (1, 0, 2)/√5.
+    hit = trace(scene, {2 + std::sqrt(2.0f), 0, 10}, {0, -0.1f, -1});
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.t, 10 - std::sqrt(0.5f), 1e-5);
+    expect_vec_near(hit.normal, Vec3f{1, 0, 2} * (1 / std::sqrt(5.0f)));
+    // Shadow rays: from the axis outwards, the wall is 2 away.
+    EXPECT_TRUE(occluded(scene, {{2, 0, 0}, {1, 0, 0}}, 0, 2.5f));
+    EXPECT_FALSE(occluded(scene, {{2, 0, 0}, {1, 0, 0}}, 0, 1.5f));
+    // Above the open top, nothing.
+    EXPECT_FALSE(trace(scene, {2, 1.6f, 10}, {0, 0, -1}).hit);
+}
+
 TEST(BuildSceneTest, NestedTransformsComposeOuterTimesInner) {
     // Outer Translate 3 0 0 around inner ZRotate 90: the sphere at (1, 0, 0) is rotated to (0, 1, 0)
     // first, then moved to (3, 1, 0).

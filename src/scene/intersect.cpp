@@ -76,6 +76,17 @@ struct Query {
                 offer(best, t, 0, 0, id, 0);
                 return false;
             }
+            case ShapeKind::RevSurface: {
+                // A hit at exactly the best t still goes to offer(), which breaks the tie.
+                RevSurfaceHit hit;
+                if (!intersect_rev_surface(scene.rev_surfaces[inst.shape], ray, t_min,
+                                           kAnyHit ? t_max : std::nextafter(best.t, INFINITY), kAnyHit, hit,
+                                           counters ? &counters->nodes_visited : nullptr))
+                    return false;
+                if (kAnyHit) return true;
+                offer(best, hit.t, hit.u, 0, id, hit.piece);
+                return false;
+            }
         }
         return false;
     }
@@ -128,6 +139,9 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
             normal = triangle_normal(tri.p0, tri.p1, tri.p2);
             break;
         }
+        case ShapeKind::RevSurface:
+            normal = rev_surface_normal(scene.rev_surfaces[inst.shape], hit.prim, hit.u, object_ray.at(hit.t));
+            break;
         case ShapeKind::Mesh: {
             const MeshShape& shape = scene.meshes[inst.shape];
             const TriangleMesh& mesh = shape.mesh;

@@ -9,6 +9,7 @@
 #include "bvh/bvh.h"
 #include "geometry/hit.h"
 #include "geometry/plane.h"
+#include "geometry/rev_surface.h"
 #include "geometry/sphere.h"
 #include "geometry/triangle_mesh.h"
 #include "math/mat4.h"
@@ -36,7 +37,7 @@ struct TriangleShape {
     Vec3f p0, p1, p2;
 };
 
-enum class ShapeKind : uint8_t { Sphere, Plane, Triangle, Mesh };
+enum class ShapeKind : uint8_t { Sphere, Plane, Triangle, Mesh, RevSurface };
 
 constexpr uint32_t kNoTransform = 0xffffffffu;
 
@@ -61,6 +62,7 @@ struct Scene {
     std::vector<Plane> planes;  ///< in world space (transforms are applied to the plane equation)
     std::vector<TriangleShape> triangles;
     std::vector<MeshShape> meshes;
+    std::vector<RevSurface> rev_surfaces;  ///< in object space, like meshes
     std::vector<Mat4> object_from_world;  ///< inverse transforms, M⁻¹, of instances that have one
 
     std::vector<Instance> instances;

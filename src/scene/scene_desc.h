@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "geometry/curve.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
 #include "geometry/triangle_mesh.h"
@@ -53,7 +54,9 @@ struct MeshDesc {
 };
 
 struct ObjectDesc {
-    enum class Kind { Group, Sphere, Plane, Triangle, TriangleMesh, Transform };
+    /// Curve: a BezierCurve or BsplineCurve, which is not a surface and draws nothing;
+    /// RevSurface: `curve` (its profile) turned about the y axis.
+    enum class Kind { Group, Sphere, Plane, Triangle, TriangleMesh, Transform, Curve, RevSurface };
     Kind kind = Kind::Group;
     SourceLocation location;
     int material = -1;  ///< primitives: the MaterialIndex in force where they appear
@@ -63,6 +66,7 @@ struct ObjectDesc {
     int mesh = -1;               ///< TriangleMesh: index into SceneDesc::meshes
     std::string mesh_path;       ///< TriangleMesh: the path as written
     SourceLocation mesh_path_location;
+    Curve curve;                 ///< Curve: the curve; RevSurface: its profile
     Mat4 world_from_object;      ///< Transform: the composed matrix M (object → parent)
     std::vector<ObjectDesc> children;  ///< Group: its objects; Transform: exactly one
 };

@@ -16,7 +16,8 @@ namespace {
 
 const char* const kTopLevelKeywords[] = {"PerspectiveCamera", "OrthographicCamera", "Background",
                                          "Lights",            "Materials",          "Group"};
-const char* const kObjectKeywords[] = {"Group", "Sphere", "Plane", "Triangle", "TriangleMesh", "Transform"};
+const char* const kObjectKeywords[] = {"Group",        "Sphere",    "Plane",       "Triangle",     "TriangleMesh",
+                                       "Transform",    "RevSurface", "BezierCurve", "BsplineCurve"};
 const char* const kTransformItems[] = {"Scale",   "UniformScale", "Translate", "XRotate", "YRotate",
                                        "ZRotate", "Rotate",       "Matrix4f",  "Matrix"};
 
@@ -81,6 +82,11 @@ public:
         try {
             while (!lexer_.peek().is_end()) parse_top_level_block();
             check_complete();
+            if (curve_count_ > 0 && error_count_ == 0)
+                warning(first_curve_,
+                        std::string(first_curve_.text) + " is a curve, not a surface: raycast draws nothing for it, as the "
+                        "course's ray caster does (" + plural(curve_count_, "curve", "curves") + " in this file " +
+                        (curve_count_ == 1 ? "is" : "are") + " not drawn)");
         } catch (const Stop&) {
         }
         if (error_count_ > 0) throw InputError(std::move(diagnostics_));
@@ -614,7 +620,18 @@ private:
         ObjectDesc object;
         object.location = lexer_.location(keyword);
         object.material = current_material_;
-        if (keyword.is("Sphere")) {
+        if (keyword.is("BezierCurve") || keyword.is("BsplineCurve")) {
+            // Curves need no material: a file of curves alone (the course's scene08) has none.
+            object.kind = ObjectDesc::Kind::Curve;
+            object.curve = parse_curve(keyword, false);
+            if (curve_count_++ == 0) first_curve_ = keyword;
+            return object;
+        }
+        if (keyword.is("RevSurface")) {
+            object.kind = ObjectDesc::Kind::RevSurface;
+            std::vector<Field> fields = {{"profile", [&](const Token&) { object.curve = parse_profile(); }}};
+            finish_fields(keyword, fields);
+        } else if (keyword.is("Sphere")) {
             object.kind = ObjectDesc::Kind::Sphere;
             Token radius_token;
             std::vector<Field> fields = {
@@ -667,6 +684,97 @@ private:
         if (object.material == kNoMaterial)
             error(keyword, std::string(keyword.text) + " has no material: put 'MaterialIndex i' before it");
         return object;
+    }
+
+    // ---- curves ---------------------------------------------------------------------------------
+
+    // `profile BezierCurve { ... }` or `profile BsplineCurve { ... }`, after the word profile.
+    Curve parse_profile() {
+        const Token type = lexer_.take();
+        if (type.is("BezierCurve") || type.is("BsplineCurve")) return parse_curve(type, true);
+        if (type.is_end() || type.is("{") || type.is("}"))
+            fail(type, "expected the profile curve after 'profile' (BezierCurve or BsplineCurve), got " + describe(type));
+        fail(type, "unknown profile " + quote_token(type.text) + suggestion(type.text, {"BezierCurve", "BsplineCurve"}));
+    }
+
+    // The course's `BezierCurve { controls [ x y z ] [ x y z ] ... }` (or BsplineCurve): no count,
+    // each point in brackets that are words of their own. A RevSurface's profile must lie in the
+    // z = 0 plane, as the course's starter insists.
+    Curve parse_curve(const Token& keyword, bool is_profile) {
+        Curve curve;
+        curve.type = keyword.is("BezierCurve") ? CurveType::Bezier : CurveType::Bspline;
+        Token first_off_plane;
+        int off_plane = 0;
+        std::vector<Field> fields = {{"controls", [&](const Token&) {
+                                          curve.controls.clear();
+                                          off_plane = 0;
+                                          while (lexer_.peek().is("[")) {
+                                              Token z_token;
+                                              const Vec3f point = read_control_point(z_token);
+                                              if (is_profile && point.z != 0 && off_plane++ == 0) first_off_plane = z_token;
+                                              curve.controls.push_back(point);
+                                          }
+                                          check_after_control_points();
+                                      }}};
+        finish_fields(keyword, fields);
+        if (!fields[0].seen) return curve;
+        if (off_plane > 0)
+            error(first_off_plane,
+                  "the profile of a RevSurface must lie in the z = 0 plane (it is turned about the y axis), but this "
+                  "point has z = " + std::string(first_off_plane.text) +
+                      (off_plane > 1 ? string_printf(" (%d points are off the plane)", off_plane) : std::string()));
+        const int count = static_cast<int>(curve.controls.size());
+        if (curve.type == CurveType::Bspline && count < kBsplineDegree + 1)
+            error(keyword, string_printf("a BsplineCurve of degree %d needs at least %d control points, got %d",
+                                         kBsplineDegree, kBsplineDegree + 1, count));
+        if (curve.type == CurveType::Bezier && (count < 4 || count % 3 != 1))
+            error(keyword, string_printf("a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's "
+                                         "starter does, got %d",
+                                         count));
+        else if (curve.type == CurveType::Bezier && count > kMaxBezierControlPoints)
+            error(keyword, string_printf("a BezierCurve may have at most %d control points (degree %d), got %d: a "
+                                         "BsplineCurve takes any number",
+                                         kMaxBezierControlPoints, kMaxBezierControlPoints - 1, count));
+        return curve;
+    }
+
+    // `[ x y z ]`, the '[' being next. `z_token` is where z was written.
+    Vec3f read_control_point(Token& z_token) {
+        const Token open = lexer_.take();
+        Vec3f point;
+        const char* const names[] = {"x", "y", "z"};
+        for (int axis = 0; axis < 3; ++axis) {
+            const Token value = lexer_.peek();
+            if (value.is("]") || value.is("}") || value.is("[") || value.is_end())
+                fail(value, string_printf("a control point has three numbers, x y z: expected its %s, got ", names[axis]) +
+                                describe(value));
+            if (value.text.size() > 1 && value.text.back() == ']')
+                fail(value, "write ']' apart from the number before it: " + quote_token(value.text) +
+                                " is read as one word");
+            if (axis == 2) z_token = value;
+            point[axis] = read_float("controls");
+        }
+        const Token close = lexer_.take();
+        if (!close.is("]"))
+            fail(close, string_printf("expected ']' to close the control point opened at line %d, column %d, got ",
+                                      open.line, open.column) +
+                            describe(close));
+        return point;
+    }
+
+    // What may follow the last control point is the curve's '}' or another field; a number, a stray
+    // ']' or a '[' glued to a number means a bracket went missing.
+    void check_after_control_points() {
+        const Token next = lexer_.peek();
+        if (next.is("]")) fail(next, "unexpected ']': no control point is open (is a '[' missing?)");
+        if (next.text.size() > 1 && next.text.front() == '[')
+            fail(next, "write '[' apart from the number after it: " + quote_token(next.text) + " is read as one word");
+        float number = 0;
+        const char* first = next.text.data();
+        const char* last = first + next.text.size();
+        const NumberResult result = parse_float(first, last, number);
+        if (!next.is_end() && result.status != NumberStatus::Invalid && result.end == last)
+            fail(next, "expected '[' to start a control point, got " + describe(next));
     }
 
     ObjectDesc parse_transform(const Token& keyword) {
@@ -756,6 +864,8 @@ private:
     static constexpr int kMaterialInError = -2;  // the last MaterialIndex was wrong (and reported)
     int current_material_ = kNoMaterial;
     bool camera_block_seen_ = false;
+    int curve_count_ = 0;  // BezierCurve and BsplineCurve objects, which draw nothing
+    Token first_curve_;
     bool group_block_seen_ = false;
     int nesting_ = 0;
 };

@@ -544,6 +544,96 @@ TEST(ParseSceneTest, TransformsNestAndHoldAnyObject) {
     EXPECT_TRUE(near(transform_point(outer.world_from_object, {1, 1, 1}), {2, 2, 2}));
 }
 
+// ---- curves and surfaces of revolution (the course's next assignment) ----------------------------
+
+TEST(ParseSceneTest, ReadsCurvesAndSurfacesOfRevolutionWhereverAnObjectMayStand) {
+    const SceneDesc desc = parse(scene_with_group(
+        3, "BezierCurve { controls [ 3 0 0 ] [ 3 1 0 ]\n [ 1 1 0 ] [ 1 0 0.5 ] }\n"
+           "Transform { Translate 1 0 0 RevSurface { profile BsplineCurve { controls\n"
+           "  [ -1 2 0 ] [ -2 1 0 ] [ -1.5 0 0 ] [ -.5 -1 0 ] [ 0 -1 0 ] } } }\n"
+           "Group { numObjects 1 RevSurface { profile BezierCurve { controls [ 0 1 0 ] [ 1 1 0 ] [ 1 0 0 ] [ 2 -1 0 ] } } }"));
+    const std::vector<ObjectDesc>& objects = desc.root->children;
+    ASSERT_EQ(objects.size(), 3u);
+    EXPECT_EQ(objects[0].kind, ObjectDesc::Kind::Curve);
+    EXPECT_EQ(objects[0].curve.type, CurveType::Bezier);
+    ASSERT_EQ(objects[0].curve.controls.size(), 4u);
+    EXPECT_EQ(objects[0].curve.controls[3], (Vec3f{1, 0, 0.5f}));  // a curve alone may leave z = 0
+    const ObjectDesc& surface = objects[1].children.at(0);
+    EXPECT_EQ(surface.kind, ObjectDesc::Kind::RevSurface);
+    EXPECT_EQ(surface.material, 0);
+    EXPECT_EQ(surface.curve.type, CurveType::Bspline);
+    ASSERT_EQ(surface.curve.controls.size(), 5u);
+    EXPECT_EQ(surface.curve.controls[3], (Vec3f{-0.5f, -1, 0}));
+    EXPECT_EQ(surface.location.line, 7);  // after the camera, materials, Group, MaterialIndex and the curve's two lines
+    EXPECT_EQ(surface.location.column, 29);
+    EXPECT_EQ(objects[2].children.at(0).kind, ObjectDesc::Kind::RevSurface);
+    EXPECT_EQ(objects[2].children.at(0).curve.type, CurveType::Bezier);
+}
+
+TEST(ParseSceneTest, CurvesNeedNoMaterialAndAreNotDrawnWhichOneWarningSays) {
+    // The course's scene08: curves only, no Materials block, no MaterialIndex.
+    const SceneDesc desc = parse(kCamera + "Group { numObjects 3\n"
+                                           "  BezierCurve { controls [ 0 0 0 ] [ 1 1 0 ] [ 2 1 0 ] [ 3 0 0 ] }\n"
+                                           "  BsplineCurve { controls [ 0 0 0 ] [ 1 1 0 ] [ 2 1 0 ] [ 3 0 0 ] }\n"
+                                           "  BsplineCurve { controls [ 0 0 1 ] [ 1 1 0 ] [ 2 1 0 ] [ 3 0 0 ] [ 4 0 0 ] }\n}\n");
+    ASSERT_EQ(desc.root->children.size(), 3u);
+    EXPECT_TRUE(desc.materials.empty());
+    ASSERT_EQ(desc.warnings.size(), 1u);
+    EXPECT_EQ(located(desc.warnings[0]), "s.txt:3:3: BezierCurve is a curve, not a surface: raycast draws nothing for "
+                                         "it, as the course's ray caster does (3 curves in this file are not drawn)");
+    // A RevSurface, like any surface, takes the current material and needs one.
+    EXPECT_EQ(errors_of(kCamera + "Group { numObjects 1 RevSurface { profile BezierCurve { controls [ 0 1 0 ] [ 1 1 0 ] "
+                                  "[ 1 0 0 ] [ 2 -1 0 ] } } }"),
+              "s.txt:2:22: RevSurface has no material: put 'MaterialIndex i' before it\n");
+}
+
+TEST(ParseSceneTest, CurveMistakesAreLocated) {
+    // Each body is the only object of a group whose first line is line 5; columns by hand.
+    std::string many = "BezierCurve { controls";
+    for (int i = 0; i < kMaxBezierControlPoints + 3; ++i) many += " [ " + std::to_string(i) + " 0 0 ]";
+    const struct {
+        std::string body, error;
+    } cases[] = {
+        // Too few points for the degree, and the Bezier counts the course's starter refuses (3k+1).
+        {"BsplineCurve { controls [ 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] }",
+         "5:1: a BsplineCurve of degree 3 needs at least 4 control points, got 3"},
+        {"BezierCurve { controls [ 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] [ 4 0 0 ] }",
+         "5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 5"},
+        {"BezierCurve { controls [ 0 0 0 ] [ 1 0 0 ] }",
+         "5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 2"},
+        {"BezierCurve { controls }",
+         "5:1: a BezierCurve needs 3k+1 control points (4, 7, 10, ...), as the course's starter does, got 0"},
+        {many + " }",
+         "5:1: a BezierCurve may have at most 31 control points (degree 30), got 34: a BsplineCurve takes any number"},
+        // A profile off the z = 0 plane, at the first point that leaves it.
+        {"RevSurface { profile BezierCurve { controls [ 0 1 0 ] [ 1 1 0.5 ] [ 1 0 -1 ] [ 2 -1 0 ] } }",
+         "5:61: the profile of a RevSurface must lie in the z = 0 plane (it is turned about the y axis), but this "
+         "point has z = 0.5 (2 points are off the plane)"},
+        // Brackets.
+        {"BezierCurve { controls [ 0 0 0 [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:32: expected ']' to close the control point opened at line 5, column 24, got '['"},
+        {"BezierCurve { controls 0 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:24: expected '[' to start a control point, got '0'"},
+        {"BezierCurve { controls [ 0 0 0 ] ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:34: unexpected ']': no control point is open (is a '[' missing?)"},
+        {"BezierCurve { controls [0 0 0] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:24: write '[' apart from the number after it: '[0' is read as one word"},
+        {"BezierCurve { controls [ 0 0 0] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:30: write ']' apart from the number before it: '0]' is read as one word"},
+        {"BezierCurve { controls [ 0 0 ] [ 1 0 0 ] [ 2 0 0 ] [ 3 0 0 ] }",
+         "5:30: a control point has three numbers, x y z: expected its z, got ']'"},
+        // The profile's type and the fields.
+        {"RevSurface { profile BezierCurv { controls [ 0 1 0 ] } }",
+         "5:22: unknown profile 'BezierCurv'; did you mean 'BezierCurve'?"},
+        {"RevSurface { profile Circle { radius 1 } }", "5:22: unknown profile 'Circle': expected BezierCurve or BsplineCurve"},
+        {"RevSurface { }", "5:14: RevSurface is missing 'profile'"},
+        {"BsplineCurve { control [ 0 0 0 ] }",
+         "5:16: unknown field 'control' in BsplineCurve; did you mean 'controls'?\ns.txt:5:34: BsplineCurve is missing "
+         "'controls'"},
+    };
+    for (const auto& c : cases) EXPECT_EQ(errors_of(scene_with_group(1, c.body)), "s.txt:" + c.error + "\n") << c.body;
+}
+
 // ---- a whole MIT 6.837 scene -----------------------------------------------------------------------
 
 TEST(ParseSceneTest, ReadsAnMitSceneWithEveryMitForm) {
