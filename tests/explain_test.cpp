@@ -198,6 +198,73 @@ TEST(ExplainTest, TheMitFormAndSamplesWork) {
     }
 }
 
+// A glass goblet (a closed surface of revolution: its profile climbs the outside of the cup and
+// comes down the inside to the axis) in front of a red ball.
+const char* const kGobletScene = R"(PerspectiveCamera {
+    center 0 2.5 9  direction 0 -0.15 -1  up 0 1 0  angle 30  width 24  height 24
+}
+Lights { numLights 1 PointLight { position -4 7 6 color 0.9 0.9 0.9 } }
+Background { color 0.4 0.5 0.7 }
+Materials {
+    numMaterials 3
+    Material { diffuseColor 0 0 0 specularColor 0.8 0.8 0.8 shininess 60
+               reflectiveColor 0.1 0.1 0.1 transparentColor 0.9 0.9 0.9 indexOfRefraction 1.5 }
+    Material { diffuseColor 0.8 0.2 0.1 }
+    Material { diffuseColor 0.5 0.5 0.5 }
+}
+Group {
+    numObjects 3
+    MaterialIndex 0
+    RevSurface { profile BsplineCurve { controls
+        [ 0 0 0 ] [ 0 0 0 ] [ 0 0 0 ] [ 0.9 0 0 ] [ 1.05 0.05 0 ] [ 0.95 0.14 0 ] [ 0.3 0.22 0 ]
+        [ 0.12 0.5 0 ] [ 0.11 1.1 0 ] [ 0.18 1.4 0 ] [ 0.95 1.55 0 ] [ 1.25 2.3 0 ] [ 1.1 3.0 0 ]
+        [ 1.06 3.2 0 ] [ 1.0 3.2 0 ] [ 1.03 2.4 0 ] [ 0.8 1.75 0 ] [ 0 1.62 0 ] [ 0 1.62 0 ] [ 0 1.62 0 ] } }
+    MaterialIndex 1
+    Sphere { center 0.5 1.5 -3 radius 1 }
+    MaterialIndex 2
+    Plane { normal 0 1 0 offset -0.01 }
+}
+)";
+
+TEST(ExplainTest, GlassSurfacesOfRevolutionAreRayTracedAndExplained) {
+    const std::string dir = temp_dir("explain/goblet");
+    write_file(dir + "/g.txt", kGobletScene);
+    SceneDesc desc = load_scene_file(dir + "/g.txt");
+    const Scene scene = build_scene(std::move(desc), SceneBuildOptions{});
+    RenderOptions options;
+    options.shadows = true;
+    options.transparent_shadows = true;
+    options.bounces = 6;
+    options.threads = 2;
+    const ImageRgb8 image = render_image_rgb8(scene, options);
+    int through_glass = 0, mismatches = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const PixelExplanation e = explain_pixel(scene, options, x, image.height - 1 - y);
+            const uint8_t* pixel = image.at(x, y);
+            if (e.rgb8[0] != pixel[0] || e.rgb8[1] != pixel[1] || e.rgb8[2] != pixel[2]) ++mismatches;
+            // A ray into the glass comes out again: a transmitted ray that starts inside (it met
+            // the surface's back, leaving) follows one that entered (met its front).
+            const RayTree& tree = e.samples[0];
+            bool entered = false, left = false;
+            for (const RayRecord& r : tree.rays) {
+                if (r.kind != RayKind::Transmitted) continue;
+                // The profile's normal points out of the solid (the starter's T × z): from its
+                // front a refracted ray goes into glass (index 1.5), from its back out to vacuum.
+                const RayRecord& parent = tree.rays[static_cast<size_t>(r.parent)];
+                if (parent.object == 0) {
+                    EXPECT_EQ(r.index_of_refraction, parent.back_face ? 1.0f : 1.5f);
+                }
+                if (!r.hit || r.object != 0) continue;
+                entered |= !parent.back_face;
+                left |= r.back_face;
+            }
+            through_glass += entered && left ? 1 : 0;
+        }
+    EXPECT_EQ(mismatches, 0);
+    EXPECT_GT(through_glass, 20) << "rays should enter the goblet's glass and leave it";
+}
+
 TEST(ExplainTest, MistakesOnTheCommandLineAreUsageErrors) {
     const std::string dir = scene_dir("usage");
     struct Case {

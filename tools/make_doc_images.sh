@@ -27,6 +27,7 @@ showcase scenes/showcase.txt "$out/thin_lens.png" --aperture 0.6 --focus-distanc
 showcase scenes/showcase_ortho.txt "$out/orthographic.png" --shadows --spp 16
 render scenes/raytracing.txt "$out/raytracing.png" --shadows --transparent-shadows --bounces 8 --spp 16
 showcase scenes/revolution.txt "$out/revolution.png" --shadows --spp 16
+render scenes/goblet.txt "$out/goblet.png" --shadows --transparent-shadows --bounces 10 --spp 16
 showcase scenes/revolution.txt "$out/revolution_normals.png" --mode normals
 "$raycast" compare "$out/showcase_course.png" "$out/showcase_spp16.png" --diff "$out/compare_diff.png" >/dev/null
 
