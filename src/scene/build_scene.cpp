@@ -61,21 +61,26 @@ public:
         make_camera_and_lights();
         mesh_shape_of_.assign(desc_.meshes.size(), -1);
         if (desc_.root) add_object(*desc_.root, Mat4::identity(), false);
-        if (!errors_.empty()) throw InputError(std::move(errors_));
+        if (!errors_.empty()) fail(std::move(errors_));
         build_instance_bvh();
         return std::move(scene_);
     }
 
 private:
+    // Errors found here show their line of the scene file and a caret, as the parser's do.
+    [[noreturn]] void fail(std::vector<Diagnostic> errors) const {
+        attach_source_lines(errors, desc_.source_text, desc_.file);
+        throw InputError(std::move(errors));
+    }
+
     void make_camera_and_lights() {
-        if (!desc_.camera) throw InputError({error_at({desc_.file, 0, 0}, "the scene has no camera")});
+        if (!desc_.camera) fail({error_at({desc_.file, 0, 0}, "the scene has no camera")});
         const CameraDesc& camera = *desc_.camera;
         const int width = options_.width > 0 ? options_.width : camera.width;
         const int height = options_.height > 0 ? options_.height : camera.height;
         if (width <= 0 || height <= 0)
-            throw InputError({error_at(camera.location,
-                                       "the camera gives no image size: add width and height, or use --size WxH "
-                                       "(-size W H)")});
+            fail({error_at(camera.location,
+                           "the camera gives no image size: add width and height, or use --size WxH (-size W H)")});
         scene_.camera = make_camera(camera, width, height, options_.conventions);
         scene_.background = desc_.background;
         if (desc_.ambient)

@@ -111,23 +111,6 @@ private:
     std::vector<Diagnostic> warnings_;
 };
 
-// Attaches the source line to diagnostics located in the scene text (the OBJ loader fills its own).
-void add_source_lines(std::vector<Diagnostic>& diagnostics, const std::string& text, const std::string& file) {
-    for (Diagnostic& d : diagnostics) {
-        if (d.location.file != file || d.location.line <= 0 || !d.source_line.empty()) continue;
-        size_t start = 0;
-        for (int line = 1; line < d.location.line && start != std::string::npos; ++line) {
-            start = text.find('\n', start);
-            if (start != std::string::npos) ++start;
-        }
-        if (start == std::string::npos) continue;
-        size_t end = text.find('\n', start);
-        if (end == std::string::npos) end = text.size();
-        if (end > start && text[end - 1] == '\r') --end;
-        if (end - start <= 300) d.source_line = text.substr(start, end - start);
-    }
-}
-
 }  // namespace
 
 std::string read_text_file(const std::string& path, const char* what, int64_t max_bytes) {
@@ -162,10 +145,10 @@ SceneDesc load_scene_text(const std::string& text, const std::string& file_name,
         loader.load_all(*desc.root);
         if (!loader.errors().empty()) {
             std::vector<Diagnostic> all = std::move(loader.errors());
-            add_source_lines(all, text, file_name);
+            attach_source_lines(all, text, file_name);
             throw InputError(std::move(all));
         }
-        add_source_lines(loader.warnings(), text, file_name);
+        attach_source_lines(loader.warnings(), text, file_name);
         for (Diagnostic& warning : loader.warnings()) desc.warnings.push_back(std::move(warning));
     }
     return desc;

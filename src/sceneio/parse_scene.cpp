@@ -767,6 +767,7 @@ SceneDesc parse_scene(std::string_view text, const std::string& file_name) {
     // holds that many levels in any build.
     SceneDesc desc;
     call_with_stack(kDeepRecursionStackBytes, [&] { desc = Parser(text, file_name).parse(); });
+    desc.source_text = std::string(text);
     return desc;
 }
 
