@@ -4,11 +4,13 @@
 #include <cmath>
 #include <functional>
 #include <initializer_list>
+#include <optional>
 
 #include "base/limits.h"
 #include "base/parallel.h"
 #include "base/parse_number.h"
 #include "sceneio/lexer.h"
+#include "sceneio/text_check.h"
 
 namespace raycast {
 
@@ -763,6 +765,9 @@ private:
 }  // namespace
 
 SceneDesc parse_scene(std::string_view text, const std::string& file_name) {
+    // A binary file would make only a cascade of unknown keywords: one error says what it is.
+    if (const std::optional<size_t> bad = find_non_text_byte(text))
+        throw InputError({non_text_diagnostic(text, *bad, file_name)});
     // The parser recurses once per nesting level (up to kMaxNestingDepth): give it a stack that
     // holds that many levels in any build.
     SceneDesc desc;

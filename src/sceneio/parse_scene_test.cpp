@@ -426,6 +426,20 @@ TEST(ParseSceneTest, CommentsAndCrlfAndTabsAreIgnored) {
     EXPECT_EQ(desc.root->children.at(0).location.column, 38);
 }
 
+TEST(ParseSceneTest, ABinaryFileIsOneErrorAtItsFirstBadByte) {
+    // Not a cascade of unknown keywords: one error at the first byte that no text holds (the rule
+    // of sceneio/text_check.h), here the NUL of a file cut into a scene.
+    EXPECT_EQ(errors_of(kCamera + std::string("Group {\0\x01\x02}", 11)),
+              "s.txt:2:8: this is not a text file: byte 0x00 (NUL) never appears in text\n");
+    EXPECT_EQ(errors_of(kCamera + "\x1b[1mGroup { }\n"),
+              "s.txt:2:1: this is not a text file: byte 0x1b is a control character at the start of a line\n");
+}
+
+TEST(ParseSceneTest, KeepsTheTextForTheLinesOfLaterErrors) {
+    const std::string text = scene_with_group(1, kUnitSphere);
+    EXPECT_EQ(parse(text).source_text, text);
+}
+
 TEST(ParseSceneTest, GroupsNestUpToTheLimitButNotBeyond) {
     auto nested = [](int levels) {
         std::string text = kCamera;
