@@ -472,24 +472,28 @@ TEST(BadInputTest, SingularTransformsAreRejected) {
 }
 
 TEST(BadInputTest, ErrorsFoundWhileBuildingTheSceneShowTheLineAndCaret) {
-    // Found after parsing, by build_scene, and shown as the parser shows its own errors.
-    const Rendered singular = render("transform_singular_product.txt");
-    EXPECT_EQ(singular.run.exit_code, 1);
-    EXPECT_EQ(singular.run.output,
-              "tests/bad_inputs/transform_singular_product.txt:26:9: error: this transform cannot be inverted (it "
-              "squashes space flat): check for a zero scale\n"
-              "          Transform {\n"
-              "          ^\n");
-    // The extent limit (1e18, base/limits.h), here for a triangle with corners at 1e20.
-    const Rendered huge = render("huge_triangle.txt");
-    EXPECT_EQ(huge.run.exit_code, 1);
-    EXPECT_EQ(huge.run.output,
-              "tests/bad_inputs/huge_triangle.txt:17:5: error: this object reaches coordinates of 1e+20, beyond "
-              "raycast's limit of 1e+18 (float arithmetic would overflow): scale the scene down\n"
-              "      Triangle {\n"
-              "      ^\n");
-    EXPECT_TRUE(files_in(singular.out_dir).empty());
-    EXPECT_TRUE(files_in(huge.out_dir).empty());
+    // Found after parsing, by build_scene, and shown as the parser shows its own errors: a product
+    // of transforms that cannot be inverted, and the extent limit (1e18, base/limits.h) for a
+    // triangle with corners at 1e20.
+    const std::pair<const char*, const char*> cases[] = {
+        {"transform_singular_product.txt",
+         "tests/bad_inputs/transform_singular_product.txt:26:9: error: this transform cannot be inverted (it "
+         "squashes space flat): check for a zero scale\n"
+         "          Transform {\n"
+         "          ^\n"},
+        {"huge_triangle.txt",
+         "tests/bad_inputs/huge_triangle.txt:17:5: error: this object reaches coordinates of 1e+20, beyond raycast's "
+         "limit of 1e+18 (float arithmetic would overflow): scale the scene down\n"
+         "      Triangle {\n"
+         "      ^\n"},
+    };
+    for (const auto& [name, output] : cases) {
+        SCOPED_TRACE(name);
+        const Rendered r = render(name);
+        EXPECT_EQ(r.run.exit_code, 1);
+        EXPECT_EQ(r.run.output, output);
+        EXPECT_TRUE(files_in(r.out_dir).empty());
+    }
 }
 
 // ---- degenerate geometry ----------------------------------------------------------------------------
