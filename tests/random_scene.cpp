@@ -1,6 +1,7 @@
 #include "random_scene.h"
 
 #include <cmath>
+#include <initializer_list>
 
 #include "base/error.h"
 #include "math/mat4.h"
@@ -40,6 +41,15 @@ const std::vector<float> kExtremeNumbers = {0.0f,    -0.0f, 1.4e-45f, 1.17549435
 const std::vector<float> kExtremePositive = {1.4e-45f, 1e-30f, 1e-20f, 1e-7f, 1e7f, 1e18f, 1e20f, 3.4e38f};
 
 std::string number_text(float value) { return string_printf("%.9g", static_cast<double>(value)); }
+
+// The pieces joined by spaces. Every choice is made inside a braced list, whose elements C++
+// evaluates in order: in `a() + " " + b()` the compiler picks the order, and GCC and clang pick
+// differently, so a seed or a fuzzer's input would make another scene with each compiler.
+std::string words(std::initializer_list<std::string> pieces) {
+    std::string text;
+    for (const std::string& piece : pieces) text += (text.empty() ? "" : " ") + piece;
+    return text;
+}
 
 class Generator {
 public:
@@ -86,8 +96,8 @@ private:
     std::string num(float lo, float hi) { return number_text(value(lo, hi)); }
     // Positive (for a radius, an index of refraction, a size), also when extreme.
     std::string positive(float lo, float hi) { return number_text(value(lo, hi, kExtremePositive)); }
-    std::string vec3(float lo, float hi) { return num(lo, hi) + " " + num(lo, hi) + " " + num(lo, hi); }
-    std::string colour() { return positive_or_zero() + " " + positive_or_zero() + " " + positive_or_zero(); }
+    std::string vec3(float lo, float hi) { return words({num(lo, hi), num(lo, hi), num(lo, hi)}); }
+    std::string colour() { return words({positive_or_zero(), positive_or_zero(), positive_or_zero()}); }
     std::string positive_or_zero() { return c_.one_in(6) ? std::string("0") : positive(0.05f, 1.0f); }
     // A vector that is not zero (the parser refuses zero directions, normals and axes).
     std::string nonzero_vec3(float lo, float hi) {
@@ -135,12 +145,12 @@ private:
         out_.text += "Lights {\n  numLights " + std::to_string(count) + "\n";
         for (int i = 0; i < count; ++i) {
             if (c_.one_in(2)) {
-                out_.text += "  DirectionalLight { direction " + nonzero_vec3(-1, 1) + " color " + colour() + " }\n";
+                out_.text += words({"  DirectionalLight { direction", nonzero_vec3(-1, 1), "color", colour(), "}\n"});
             } else {
-                out_.text += "  PointLight { position " + vec3(-10, 10) + " color " + colour();
+                out_.text += words({"  PointLight { position", vec3(-10, 10), "color", colour()});
                 // Attenuation: none negative, not all zero.
                 if (c_.one_in(2))
-                    out_.text += " attenuation " + positive(0.5f, 2) + " " + positive_or_zero() + " " + positive_or_zero();
+                    out_.text += words({" attenuation", positive(0.5f, 2), positive_or_zero(), positive_or_zero()});
                 out_.text += " }\n";
             }
         }
@@ -154,7 +164,7 @@ private:
             // Fields in any order: each is offered in a shuffled-by-choice sequence.
             if (!c_.one_in(4)) out_.text += " diffuseColor " + colour();
             if (c_.one_in(2)) out_.text += " specularColor " + colour();
-            if (c_.one_in(2)) out_.text += (c_.one_in(2) ? " shininess " : " exponent ") + positive(1, 64);
+            if (c_.one_in(2)) out_.text += words({c_.one_in(2) ? " shininess" : " exponent", positive(1, 64)});
             if (c_.one_in(3)) out_.text += " reflectiveColor " + colour();
             if (c_.one_in(3)) out_.text += " transparentColor " + colour();
             if (c_.one_in(3)) out_.text += " indexOfRefraction " + positive(1, 2.5f);
@@ -189,20 +199,20 @@ private:
 
     std::string sphere() {
         --objects_left_;
-        return "Sphere { center " + vec3(-2, 2) + " radius " + positive(0.4f, 1.6f) + " }\n";
+        return words({"Sphere { center", vec3(-2, 2), "radius", positive(0.4f, 1.6f), "}\n"});
     }
 
     std::string plane() {
         --objects_left_;
-        return "Plane { normal " + nonzero_vec3(-1, 1) + " offset " + num(-4, 4) + " }\n";
+        return words({"Plane { normal", nonzero_vec3(-1, 1), "offset", num(-4, 4), "}\n"});
     }
 
     std::string triangle() {
         --objects_left_;
         // Now and then a degenerate one (a warning, never seen).
         if (c_.one_in(16)) return "Triangle { vertex0 0 0 0 vertex1 1 1 1 vertex2 2 2 2 }\n";
-        return "Triangle { vertex0 " + vec3(-2.5f, 2.5f) + " vertex1 " + vec3(-2.5f, 2.5f) + " vertex2 " +
-               vec3(-2.5f, 2.5f) + " }\n";
+        return words({"Triangle { vertex0", vec3(-2.5f, 2.5f), "vertex1", vec3(-2.5f, 2.5f), "vertex2",
+                      vec3(-2.5f, 2.5f), "}\n"});
     }
 
     std::string triangle_mesh() {
@@ -232,10 +242,11 @@ private:
         const float scale = c_.between(1, 2.5f), dx = c_.between(-1.5f, 1.5f), dy = c_.between(-1.5f, 1.5f),
                     dz = c_.between(-1.5f, 1.5f);
         for (int i = 0; i < vertices; ++i)
-            text += "v " + number_text(dx + scale * c_.between(-1, 1)) + " " + number_text(dy + scale * c_.between(-1, 1)) +
-                    " " + number_text(dz + scale * c_.between(-1, 1)) + eol;
+            text += words({"v", number_text(dx + scale * c_.between(-1, 1)), number_text(dy + scale * c_.between(-1, 1)),
+                           number_text(dz + scale * c_.between(-1, 1))}) +
+                    eol;
         for (int i = 0; i < normals; ++i) text += "vn " + nonzero_vec3(-1, 1) + eol;
-        for (int i = 0; i < texcoords; ++i) text += "vt " + num(0, 1) + " " + num(0, 1) + eol;
+        for (int i = 0; i < texcoords; ++i) text += words({"vt", num(0, 1), num(0, 1)}) + eol;
         // A mesh without faces now and then: a warning, and nothing drawn.
         const int faces = c_.one_in(16) ? 0 : vertices + static_cast<int>(c_.below(static_cast<uint32_t>(vertices)));
         for (int f = 0; f < faces; ++f) {
@@ -281,13 +292,13 @@ private:
 
     std::string transform_item() {
         switch (c_.below(9)) {
-            case 0: return "  Scale " + scale_factor() + " " + scale_factor() + " " + scale_factor() + "\n";
+            case 0: return words({"  Scale", scale_factor(), scale_factor(), scale_factor()}) + "\n";
             case 1: return "  UniformScale " + scale_factor() + "\n";
             case 2: return "  Translate " + vec3(-1.5f, 1.5f) + "\n";
             case 3: return "  XRotate " + num(-180, 180) + "\n";
             case 4: return "  YRotate " + num(-180, 180) + "\n";
             case 5: return "  ZRotate " + num(-180, 180) + "\n";
-            case 6: return "  Rotate { " + nonzero_vec3(-1, 1) + " " + num(-180, 180) + " }\n";
+            case 6: return words({"  Rotate {", nonzero_vec3(-1, 1), num(-180, 180), "}\n"});
             default: return matrix_item();
         }
     }
@@ -297,17 +308,21 @@ private:
     std::string scale_factor() {
         if (limits_.extreme_numbers && c_.one_in(24)) {
             out_.moderate = false;
-            return number_text(c_.pick(kExtremePositive) * (c_.one_in(2) ? -1.0f : 1.0f));
+            const float magnitude = c_.pick(kExtremePositive);
+            return number_text(c_.one_in(2) ? -magnitude : magnitude);
         }
-        return number_text(c_.between(0.3f, 2) * (c_.one_in(4) ? -1.0f : 1.0f));
+        const float magnitude = c_.between(0.3f, 2);
+        return number_text(c_.one_in(4) ? -magnitude : magnitude);
     }
 
     // Matrix4f (the course's, column by column) or Matrix (MIT's, row by row) holding a
     // well-conditioned affine map, made here from rotations, a scale and a translation.
     std::string matrix_item() {
-        const Mat4 m = Mat4::translate({c_.between(-2, 2), c_.between(-2, 2), c_.between(-2, 2)}) *
-                       Mat4::rotate({c_.between(-1, 1), c_.between(-1, 1), 1}, c_.between(-180, 180)) *
-                       Mat4::scale({c_.between(0.5f, 2), c_.between(0.5f, 2), c_.between(0.5f, 2)});
+        const Vec3f offset{c_.between(-2, 2), c_.between(-2, 2), c_.between(-2, 2)};
+        const Vec3f axis{c_.between(-1, 1), c_.between(-1, 1), 1};
+        const float degrees = c_.between(-180, 180);
+        const Vec3f scale{c_.between(0.5f, 2), c_.between(0.5f, 2), c_.between(0.5f, 2)};
+        const Mat4 m = Mat4::translate(offset) * Mat4::rotate(axis, degrees) * Mat4::scale(scale);
         const bool columns = c_.one_in(2);
         std::string text = columns ? "  Matrix4f {" : "  Matrix {";
         for (int i = 0; i < 4; ++i)
