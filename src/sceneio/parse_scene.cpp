@@ -733,7 +733,9 @@ private:
             const float degrees = read_float("Rotate");
             const Token close = lexer_.take();
             if (!close.is("}")) fail(close, "expected '}' after 'Rotate { x y z degrees', got " + describe(close));
-            if (dot(axis, axis) == 0) fail(axis_token, "the 'Rotate' axis must not be the zero vector");
+            // Not dot(axis, axis) == 0: that underflows for axes of 1e-20 and less, which Mat4::rotate
+            // normalises in double without trouble.
+            if (is_zero(axis)) fail(axis_token, "the 'Rotate' axis must not be the zero vector");
             return m * Mat4::rotate(axis, degrees);
         }
         // Matrix4f lists columns (the course's port onto a column-major class); Matrix lists rows.

@@ -493,6 +493,12 @@ TEST(ParseSceneTest, RotateTakesAnAxisThatNeedNotBeUnitLength) {
     // s = sqrt(3)/2, k = 3/2 give the column for x as (0, 1, 0)).
     EXPECT_TRUE(near(map("Rotate { 1 1 1 120 }", {1, 0, 0}), {0, 1, 0}));
     EXPECT_TRUE(near(map("Rotate { 1 1 1 120 }", {0, 0, 1}), {1, 0, 0}));
+    // Axes whose squared length underflows float are not zero (fuzz_render_pipeline found the
+    // parser refusing them): the smallest normal float, a subnormal, and the largest float.
+    EXPECT_TRUE(near(map("Rotate { 0 0 1.17549435e-38 90 }", {1, 0, 0}), {0, 1, 0}));
+    EXPECT_TRUE(near(map("Rotate { 1.17549435e-38 1.17549435e-38 1.17549435e-38 120 }", {1, 0, 0}), {0, 1, 0}));
+    EXPECT_TRUE(near(map("Rotate { 0 0 1e-45 90 }", {1, 0, 0}), {0, 1, 0}));
+    EXPECT_TRUE(near(map("Rotate { 0 0 3.4e38 90 }", {1, 0, 0}), {0, 1, 0}));
 }
 
 TEST(ParseSceneTest, TheLastListedItemAppliesToTheObjectFirst) {
