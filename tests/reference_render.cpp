@@ -19,6 +19,8 @@ ReferenceScene::ReferenceScene(const Scene& scene) : scene_(scene) {
 }
 
 // Calls visit(t, u, v, object, prim, leaf) for the nearest hit (t > t_min) of every primitive.
+// Triangles with no area are skipped: the scene's rule is that they are never hit
+// (geometry/triangle.h, is_degenerate_triangle).
 template <typename Visit>
 void ReferenceScene::for_each_hit(const Ray& world_ray, float t_min, Visit&& visit) const {
     for (uint32_t id = 0; id < scene_.instances.size(); ++id) {
@@ -37,6 +39,7 @@ void ReferenceScene::for_each_hit(const Ray& world_ray, float t_min, Visit&& vis
                 break;
             case ShapeKind::Triangle: {
                 const TriangleShape& tri = scene_.triangles[instance.shape];
+                if (is_degenerate_triangle(tri.p0, tri.p1, tri.p2)) break;
                 if (intersect_triangle(make_watertight_ray(ray), tri.p0, tri.p1, tri.p2, t_min, hit))
                     visit(hit.t, hit.u, hit.v, id, 0u, 0u);
                 break;
@@ -47,8 +50,9 @@ void ReferenceScene::for_each_hit(const Ray& world_ray, float t_min, Visit&& vis
                 const WatertightRay watertight = make_watertight_ray(ray);
                 for (uint32_t prim = 0; prim < mesh.triangle_count(); ++prim) {
                     const uint32_t* corner = &mesh.indices[3 * size_t{prim}];
-                    if (intersect_triangle(watertight, mesh.positions[corner[0]], mesh.positions[corner[1]],
-                                           mesh.positions[corner[2]], t_min, hit))
+                    const Vec3f p0 = mesh.positions[corner[0]], p1 = mesh.positions[corner[1]],
+                                p2 = mesh.positions[corner[2]];
+                    if (!is_degenerate_triangle(p0, p1, p2) && intersect_triangle(watertight, p0, p1, p2, t_min, hit))
                         visit(hit.t, hit.u, hit.v, id, prim, leaf_of_[instance.shape][prim]);
                 }
                 break;

@@ -5,6 +5,7 @@
 #include "base/limits.h"
 #include "base/parallel.h"
 #include "bvh/build_bvh.h"
+#include "geometry/triangle.h"
 
 namespace raycast {
 
@@ -185,7 +186,8 @@ private:
                 scene_.triangles.push_back(tri);
                 Bounds3f b;
                 for (const Vec3f& p : object.vertices) b.grow(moved ? transform_point(world_from_object, p) : p);
-                bounds_.push_back({pad(b), id});
+                // Out of the BVH, a triangle with no area is never tested, so never hit (triangle.h).
+                if (!is_degenerate_triangle(tri.p0, tri.p1, tri.p2)) bounds_.push_back({pad(b), id});
                 check_extent(object, b);
                 break;
             }
@@ -263,8 +265,15 @@ MeshShape build_mesh_shape(TriangleMesh mesh, int threads) {
     {
         std::vector<BvhPrimitive> primitives(count);
         for (size_t i = 0; i < count; ++i) {
+            const uint32_t* corner = &mesh.indices[3 * i];
+            const Vec3f p0 = mesh.positions[corner[0]], p1 = mesh.positions[corner[1]], p2 = mesh.positions[corner[2]];
             Bounds3f b;
-            for (int k = 0; k < 3; ++k) b.grow(mesh.positions[mesh.indices[3 * i + static_cast<size_t>(k)]]);
+            // An empty box keeps a triangle with no area out of the tree, so it is never hit (triangle.h).
+            if (!is_degenerate_triangle(p0, p1, p2)) {
+                b.grow(p0);
+                b.grow(p1);
+                b.grow(p2);
+            }
             primitives[i] = {b, static_cast<uint32_t>(i)};
         }
         BvhBuildOptions options;

@@ -9,6 +9,7 @@
 #include "base/limits.h"
 #include "base/parallel.h"
 #include "base/parse_number.h"
+#include "geometry/triangle.h"
 #include "sceneio/lexer.h"
 #include "sceneio/text_check.h"
 
@@ -653,7 +654,7 @@ private:
             };
             finish_fields(keyword, fields);
             const Vec3f* v = object.vertices;
-            if (fields[0].seen && fields[1].seen && fields[2].seen && length(cross(v[1] - v[0], v[2] - v[0])) == 0)
+            if (fields[0].seen && fields[1].seen && fields[2].seen && is_degenerate_triangle(v[0], v[1], v[2]))
                 warning(keyword, "degenerate triangle: its vertices are on one line, so it is never seen");
         } else if (keyword.is("TriangleMesh")) {
             object.kind = ObjectDesc::Kind::TriangleMesh;
