@@ -481,6 +481,12 @@ TEST(BadInputTest, ErrorsFoundWhileBuildingTheSceneShowTheLineAndCaret) {
          "squashes space flat): check for a zero scale\n"
          "          Transform {\n"
          "          ^\n"},
+        // The camera too: rays from 1e30 overflow the same products.
+        {"camera_center_huge.txt",
+         "tests/bad_inputs/camera_center_huge.txt:1:1: error: the camera is at coordinates of 1e+30, beyond raycast's "
+         "limit of 1e+18 (float arithmetic would overflow): scale the scene down\n"
+         "  PerspectiveCamera {\n"
+         "  ^\n"},
         {"huge_triangle.txt",
          "tests/bad_inputs/huge_triangle.txt:17:5: error: this object reaches coordinates of 1e+20, beyond raycast's "
          "limit of 1e+18 (float arithmetic would overflow): scale the scene down\n"
