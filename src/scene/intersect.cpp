@@ -143,6 +143,7 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
             RAYCAST_DCHECK(hit.leaf < shape.leaf_triangles.size() && shape.bvh.prim_order[hit.leaf] == hit.prim);
             const LeafTriangle& corners = shape.leaf_triangles[hit.leaf];
             normal = triangle_normal(corners.p0, corners.p1, corners.p2);
+            surface.geometric_normal = normal;
             if (mesh.has_normals()) {
                 const uint32_t* n = &mesh.normal_indices[3 * size_t{hit.prim}];
                 if (n[0] != kNoNormal && n[1] != kNoNormal && n[2] != kNoNormal) {
@@ -155,7 +156,12 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
             break;
         }
     }
-    if (inst.transform != kNoTransform) normal = transform_normal(scene.object_from_world[inst.transform], normal);
+    if (inst.kind != ShapeKind::Mesh) surface.geometric_normal = normal;
+    if (inst.transform != kNoTransform) {
+        const Mat4& object_from_world = scene.object_from_world[inst.transform];
+        normal = transform_normal(object_from_world, normal);
+        surface.geometric_normal = transform_normal(object_from_world, surface.geometric_normal);
+    }
     surface.normal = normal;
     return surface;
 }
