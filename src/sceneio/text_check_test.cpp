@@ -59,6 +59,8 @@ TEST(TextCheck, ABytePast0x7fStartingALineMustBeginAUtf8Character) {
     EXPECT_EQ(first_bad("\xc3" "a"), "0" + message + "c3" + rest);         // no continuation
     // 中 in GBK: D6 D0. D6 would begin a 2-byte UTF-8 character, but D0 cannot continue one.
     EXPECT_EQ(first_bad("\xd6\xd0"), "0" + message + "d6" + rest);
+    // A UTF-16 file (Notepad's "Unicode") starts with its byte order mark, FF FE, before any NUL.
+    EXPECT_EQ(first_bad("\xff\xfeP\0e\0"s), "0" + message + "ff" + rest);
 }
 
 TEST(TextCheck, TheFirstBadByteInTheFileIsReported) {
