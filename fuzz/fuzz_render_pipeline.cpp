@@ -12,7 +12,9 @@
 //  - the parser accepts every generated scene (they are valid by construction);
 //  - build_scene refuses a scene only when it has extreme numbers (the extent limit, a product
 //    of transforms that cannot be inverted);
-//  - every pixel is finite when every number is moderate (RandomScene::moderate);
+//  - every pixel is finite when every number is moderate (RandomScene::moderate), and no camera
+//    sample reaches the ray budget (kMaxRaysPerSample): with at most 4 bounces, 3 lights, 4
+//    occlusion rays and a few dozen surfaces, a sample needs a few thousand rays at most;
 //  - for a scene of moderate numbers, the image is bit for bit the brute-force reference's
 //    (tests/reference_render.h: no BVH, no packets), crop or not, except in cost mode, which
 //    counts BVH nodes. Not with extreme numbers: the box test's stand-in for 1/0 (1e30, bvh.h)
@@ -146,7 +148,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
     apply_lens(settings, scene);
 
-    const Image image = render_image(scene, options);
+    RenderStats stats;
+    const Image image = render_image(scene, options, &stats);
+    if (random.moderate && stats.truncated_samples > 0)
+        finding("a camera sample reached the ray budget in a scene of moderate numbers",
+                string_printf("%llu samples, %llu rays", static_cast<unsigned long long>(stats.truncated_samples),
+                              static_cast<unsigned long long>(stats.rays)),
+                random);
     const int width = options.has_crop ? options.crop.x1 - options.crop.x0 : kWidth;
     const int height = options.has_crop ? options.crop.y1 - options.crop.y0 : kHeight;
     if (image.width != width || image.height != height) finding("an image of the wrong size", "", random);
