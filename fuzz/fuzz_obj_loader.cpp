@@ -7,7 +7,8 @@
 //    one thread in chunks of 16..79 bytes (about 48 chunks over 4 KiB), and the three results
 //    must be identical;
 //  - a parsed mesh refers only to positions and normals it has;
-//  - the mesh BVH (build_bvh.h) is a tree over every triangle exactly once, whose boxes hold
+//  - the mesh BVH (build_bvh.h) is a tree over every triangle with an area exactly once (one with
+//    none is never hit, so it stays out: geometry/triangle.h), whose boxes hold
 //    their children and triangles, with leaves of at most max_leaf_size (4) triangles and at most
 //    kMaxBvhDepth levels (the traversal stack's size); leaf_triangles follow prim_order; and for
 //    16384 triangles or more, where subtrees are built on threads, two threads build the same tree.
@@ -22,6 +23,7 @@
 
 #include "base/error.h"
 #include "bvh/bvh.h"
+#include "geometry/triangle.h"
 #include "scene/build_scene.h"
 #include "sceneio/load_obj.h"
 
@@ -136,16 +138,26 @@ int check_node(const MeshShape& shape, uint32_t index, int depth, std::vector<ui
 
 void check_shape(const MeshShape& shape, size_t triangles) {
     const Bvh& bvh = shape.bvh;
-    // Positions are finite (the parser refuses out-of-range numbers), so no triangle box is empty.
-    if (bvh.prim_order.size() != triangles) finding("prim_order does not hold every triangle");
-    if (bvh.empty() != (triangles == 0)) finding("the BVH is empty but there are triangles, or the other way round");
+    // Positions are finite (the parser refuses out-of-range numbers), so only a triangle with no
+    // area has an empty box.
+    std::vector<uint8_t> has_area(triangles, 0);
+    size_t with_area = 0;
+    for (size_t i = 0; i < triangles; ++i) {
+        const uint32_t* corner = &shape.mesh.indices[3 * i];
+        has_area[i] = !is_degenerate_triangle(shape.mesh.positions[corner[0]], shape.mesh.positions[corner[1]],
+                                              shape.mesh.positions[corner[2]]);
+        with_area += has_area[i];
+    }
+    if (bvh.prim_order.size() != with_area) finding("prim_order does not hold every triangle with an area");
+    if (bvh.empty() != (with_area == 0)) finding("the BVH is empty but there are triangles, or the other way round");
     std::vector<uint8_t> seen(triangles, 0);
     for (uint32_t id : bvh.prim_order) {
         if (id >= triangles) finding("prim_order id out of range");
+        if (!has_area[id]) finding("a triangle with no area in prim_order");
         if (seen[id]++) finding("triangle twice in prim_order");
     }
-    if (shape.leaf_triangles.size() != triangles) finding("leaf_triangles of the wrong size");
-    for (size_t i = 0; i < triangles; ++i) {
+    if (shape.leaf_triangles.size() != with_area) finding("leaf_triangles of the wrong size");
+    for (size_t i = 0; i < with_area; ++i) {
         const uint32_t* corner = &shape.mesh.indices[3 * size_t{bvh.prim_order[i]}];
         const LeafTriangle& t = shape.leaf_triangles[i];
         if (t.p0 != shape.mesh.positions[corner[0]] || t.p1 != shape.mesh.positions[corner[1]] ||

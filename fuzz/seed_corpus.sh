@@ -6,6 +6,7 @@
 #   corpus-fuzz_image_decode: a small render of testcases/scene01_basic.txt written by the
 #                             raycast program of BUILD as .bmp .ppm .tga (and .png when built
 #                             with libpng), plus a text P3 PPM, a top-down 32-bit BMP and an RLE TGA
+#   corpus-fuzz_render_pipeline: its bytes are choices, not text: a few fixed byte patterns
 # Nothing is taken from ../shared.
 #   bash fuzz/seed_corpus.sh [BUILD]   (default build-fuzz; BUILD/raycast must be built)
 set -euo pipefail
@@ -22,7 +23,8 @@ fi
 scene_dir="$build/corpus-fuzz_scene_parser"
 obj_dir="$build/corpus-fuzz_obj_loader"
 image_dir="$build/corpus-fuzz_image_decode"
-mkdir -p "$scene_dir" "$obj_dir" "$image_dir"
+pipeline_dir="$build/corpus-fuzz_render_pipeline"
+mkdir -p "$scene_dir" "$obj_dir" "$image_dir" "$pipeline_dir"
 
 # ---- scenes and meshes: the project's own files ----
 cp testcases/*.txt scenes/revolution.txt "$scene_dir/"
@@ -67,5 +69,12 @@ printf 'P6 1 1 65535\n\x12\x34\x56\x78\x9a\xbc' >"$image_dir/seed-16bit.ppm"
   printf '\x81\x10\x20\x30\x00\x40\x50\x60'
 } >"$image_dir/seed-rle.tga"
 
+# ---- choices for the pipeline: each byte picks something, so a few patterns start it off ----
+for byte in 00 01 55 aa ff; do
+  printf "$(printf '\\x%s' "$byte")%.0s" $(seq 1 256) >"$pipeline_dir/seed-$byte"
+done
+LC_ALL=C awk 'BEGIN { for (i = 0; i < 512; ++i) printf "%c", (i * 37 + 11) % 256 }' >"$pipeline_dir/seed-ramp"
+
 count() { find "$1" -type f | wc -l; }
-echo "seed_corpus.sh: $(count "$scene_dir") scene, $(count "$obj_dir") OBJ and $(count "$image_dir") image inputs in $build/corpus-*/"
+echo "seed_corpus.sh: $(count "$scene_dir") scene, $(count "$obj_dir") OBJ, $(count "$image_dir") image and" \
+  "$(count "$pipeline_dir") pipeline inputs in $build/corpus-*/"

@@ -426,6 +426,88 @@ TEST(CliTest, CompareErrorsAreReported) {
     EXPECT_EQ(read_file(dir + "/a.ppm"), make_ppm(2, 2, kA));
 }
 
+// Grading (--max-diff, --max-fraction, --mask) on kA and kB: pixel 1 is off by 10 levels, pixel 2
+// by 1, so 1 of the 4 pixels differs by more than 1 level and 2 by more than 0.
+TEST(CliTest, CompareGradesWithinTheTolerance) {
+    const std::string dir = temp_dir("cli/compare_grade_pass");
+    write_file(dir + "/a.ppm", make_ppm(2, 2, kA));
+    write_file(dir + "/b.ppm", make_ppm(2, 2, kB));
+    // 25% of 4 pixels: 1 may differ by more than 1 level, and 1 does.
+    RunResult run = run_raycast("compare a.ppm b.ppm --max-diff 1 --max-fraction 0.25", dir);
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(lines_of(run.output).back(),
+              "within tolerance: 1 of 4 pixels (25%) differ by more than 1 level; at most 25% (1 pixel) may");
+    // --max-diff alone allows no pixel beyond it.
+    run = run_raycast("compare a.ppm b.ppm --max-diff 10", dir);
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(lines_of(run.output).back(), "within tolerance: 0 of 4 pixels (0%) differ by more than 10 levels; none may");
+}
+
+TEST(CliTest, CompareExitsOneWithALineSayingWhyBeyondTheTolerance) {
+    const std::string dir = temp_dir("cli/compare_grade_fail");
+    write_file(dir + "/a.ppm", make_ppm(2, 2, kA));
+    write_file(dir + "/b.ppm", make_ppm(2, 2, kB));
+    // The course's tolerance: 0.1% of 4 pixels is 0.
+    RunResult run = run_raycast("compare a.ppm b.ppm --max-diff 1 --max-fraction 0.001", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(lines_of(run.output).back(),
+              "raycast: images differ: 1 of 4 pixels (25%) differ by more than 1 level; at most 0.1% (0 pixels) may");
+    run = run_raycast("compare a.ppm b.ppm --max-diff 9", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(lines_of(run.output).back(),
+              "raycast: images differ: 1 of 4 pixels (25%) differ by more than 9 levels; none may");
+    // --max-fraction alone counts every difference (--max-diff 0).
+    run = run_raycast("compare a.ppm b.ppm --max-fraction 0.25", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(lines_of(run.output).back(),
+              "raycast: images differ: 2 of 4 pixels (50%) differ by more than 0 levels; at most 25% (1 pixel) may");
+}
+
+TEST(CliTest, CompareIgnoresThePixelsThatAreBlackInTheMask) {
+    const std::string dir = temp_dir("cli/compare_mask");
+    write_file(dir + "/a.ppm", make_ppm(2, 2, kA));
+    write_file(dir + "/b.ppm", make_ppm(2, 2, kB));
+    // Pixel 1, the one off by 10, is black in the mask; pixel 2 (off by 1) is grey, so it counts.
+    write_file(dir + "/mask.ppm", make_ppm(2, 2, {255, 255, 255, 0, 0, 0, 1, 1, 1, 255, 255, 255}));
+    const RunResult run = run_raycast("compare a.ppm b.ppm --mask mask.ppm --max-diff 0 --max-fraction 0.34", dir);
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(run.output,
+              "compared a.ppm and b.ppm (2x2)\n"
+              "ignored pixels (black in mask.ppm): 1\n"
+              "differing pixels: 1 of 3 (33.3333%)\n"
+              "pixels off by more than 1 level: 0\n"
+              "max error: 1 levels\n"
+              "mean error: 0.111111 levels\n"
+              "PSNR: 57.67 dB\n"
+              "within tolerance: 1 of 3 pixels (33.3%) differ by more than 0 levels; at most 34% (1 pixel) may\n");
+}
+
+TEST(CliTest, CompareToleranceMistakesAreUsageErrors) {
+    const std::string dir = temp_dir("cli/compare_grade_usage");
+    write_file(dir + "/a.ppm", make_ppm(2, 2, kA));
+    write_file(dir + "/wide.ppm", make_ppm(3, 2, std::vector<uint8_t>(18, 7)));
+    const std::pair<const char*, const char*> cases[] = {
+        {"--max-diff 256", "--max-diff must be at most 255, got 256"},
+        {"--max-diff -1", "--max-diff must not be negative, got -1"},
+        {"--max-diff 1.5", "--max-diff needs a whole number, got '1.5'"},
+        {"--max-diff", "--max-diff needs a number of levels, 0 to 255"},
+        {"--max-fraction 1.5", "--max-fraction must be from 0 to 1, got 1.5"},
+        {"--max-fraction -0.1", "--max-fraction must be from 0 to 1, got -0.1"},
+        {"--max-fraction 0.1%", "--max-fraction needs a number from 0 to 1, got '0.1%'"},
+        {"--max-fraction nan", "--max-fraction needs a number from 0 to 1, got 'nan'"},
+        {"--mask", "--mask needs a file name"},
+    };
+    for (const auto& [options, message] : cases) {
+        SCOPED_TRACE(options);
+        const RunResult run = run_raycast(std::string("compare a.ppm a.ppm ") + options, dir);
+        EXPECT_EQ(run.exit_code, 2);
+        EXPECT_EQ(first_line(run.output), std::string("raycast: usage error: ") + message);
+    }
+    const RunResult run = run_raycast("compare a.ppm a.ppm --mask wide.ppm", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(run.output, "wide.ppm: error: cannot use it as a mask: it is 3x2 but the images are 2x2\n");
+}
+
 // ---- failed runs and existing outputs ---------------------------------------------------------
 
 TEST(CliTest, AFailedRunNeverDamagesAnExistingOutput) {

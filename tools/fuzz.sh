@@ -19,7 +19,7 @@ case "$seconds" in
     exit 2
     ;;
 esac
-targets=(${FUZZ_TARGETS:-fuzz_scene_parser fuzz_obj_loader fuzz_image_decode})
+targets=(${FUZZ_TARGETS:-fuzz_scene_parser fuzz_obj_loader fuzz_image_decode fuzz_render_pipeline})
 build=build-fuzz
 max_len=65536
 

@@ -37,6 +37,33 @@ std::string format_diagnostic(const Diagnostic& diagnostic) {
     return text;
 }
 
+bool is_displayable_source_line(std::string_view line) {
+    constexpr size_t kMaxShownBytes = 300;
+    if (line.size() > kMaxShownBytes) return false;
+    for (const char c : line) {
+        const unsigned char u = static_cast<unsigned char>(c);
+        if (u != '\t' && (u < 0x20 || u == 0x7f)) return false;
+    }
+    return true;
+}
+
+void attach_source_lines(std::vector<Diagnostic>& diagnostics, std::string_view text, const std::string& file) {
+    for (Diagnostic& d : diagnostics) {
+        if (d.location.file != file || d.location.line <= 0 || !d.source_line.empty()) continue;
+        size_t start = 0;
+        for (int line = 1; line < d.location.line && start != std::string_view::npos; ++line) {
+            start = text.find('\n', start);
+            if (start != std::string_view::npos) ++start;
+        }
+        if (start == std::string_view::npos) continue;
+        size_t end = text.find('\n', start);
+        if (end == std::string_view::npos) end = text.size();
+        if (end > start && text[end - 1] == '\r') --end;
+        const std::string_view line = text.substr(start, end - start);
+        if (is_displayable_source_line(line)) d.source_line = std::string(line);
+    }
+}
+
 InputError::InputError(std::vector<Diagnostic> diagnostics)
     : std::runtime_error(join_messages(diagnostics)), diagnostics_(std::move(diagnostics)) {}
 

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace raycast {
@@ -28,6 +29,15 @@ struct Diagnostic {
 /// "file:line:col: error: message", then the source line and a caret under the column when known.
 /// A location without a line prints as "file: error: message".
 std::string format_diagnostic(const Diagnostic& diagnostic);
+
+/// Whether a line of an input file may be shown under a diagnostic: text a terminal prints as is
+/// (no control bytes but tab), and short enough to read (at most 300 bytes). A line of binary
+/// garbage is better left out: the caret display replaces nothing.
+bool is_displayable_source_line(std::string_view line);
+
+/// Fills the empty source_line of each diagnostic located at a line of `file` from `text`, the
+/// file's content, where that line is displayable.
+void attach_source_lines(std::vector<Diagnostic>& diagnostics, std::string_view text, const std::string& file);
 
 /// Thrown for anything wrong with the user's input or output files. Never for programming errors.
 class InputError : public std::runtime_error {

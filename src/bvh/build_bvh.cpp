@@ -209,6 +209,8 @@ private:
 
     // Builds the subtree for `range` with its root at sink.nodes[root] (already allocated).
     void build(const Range& range, NodeSink& sink, uint32_t root, int depth) const {
+        // Traversal keeps one stack entry per level (bvh.h, packet_kernel.inl).
+        RAYCAST_DCHECK(depth < kMaxBvhDepth);
         BvhNode& node = sink.nodes[root];
         node.bounds = pad_box(range.bounds);
         const uint32_t count = range.size();

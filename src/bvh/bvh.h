@@ -104,10 +104,13 @@ bool traverse_bvh(const Bvh& bvh, const BoxRay& ray, TBestFn&& t_best, LeafFn&& 
     int stack_size = 0;
     uint32_t current = 0;
     for (;;) {
+        RAYCAST_DCHECK(current < bvh.nodes.size());
         const BvhNode& node = nodes[current];
         if (node.is_leaf()) {
+            RAYCAST_DCHECK(uint64_t{node.first} + node.count <= bvh.prim_order.size());
             if (visit_leaf(node.first, node.count)) return true;
         } else {
+            RAYCAST_DCHECK(uint64_t{node.first} + 1 < bvh.nodes.size());
             const float t_cull = cull_distance(t_best());
             if (nodes_visited) *nodes_visited += 2;
             float t_left, t_right;

@@ -17,7 +17,7 @@ std::string usage_text() {
                [-transparent_shadows]
        raycast explain SCENE X Y [options]
        raycast view SCENE [options] [--port N] [--host ADDR]
-       raycast compare A B [--diff DIFF]
+       raycast compare A B [--diff DIFF] [--max-diff L] [--max-fraction F] [--mask MASK]
        raycast merge -o OUTPUT PIECE...
 
 Renders SCENE (the course's scene format, or MIT 6.837's) into OUTPUT. The image format follows
@@ -76,6 +76,10 @@ explain prints, as JSON, the tree of rays behind pixel (X, Y) (row 0 at the top,
 every camera, shadow, reflected and transmitted ray, what it hit and the shading terms, with the
 same options as a render (docs/explain.md).
 compare prints how A and B differ (pixels, max and mean error, PSNR); --diff writes a heat map.
+With --max-diff L and/or --max-fraction F it grades: exit 1, with one line saying why, when more
+than a fraction F (default 0) of the pixels differ by more than L levels (default 0) in some
+channel. The course's tolerance: raycast compare ref.bmp out.bmp --max-diff 1 --max-fraction 0.001
+--mask MASK ignores the pixels that are black in MASK, an image of the same size.
 merge assembles .ppm pieces written with --crop into the full image, byte-identical to one render.
 
 Exit status: 0 success, 1 input or output error, 2 usage error.
@@ -117,6 +121,19 @@ float parse_number(const std::string& text, const std::string& what) {
     const NumberResult result = parse_float(first, last, value);
     if (result.status != NumberStatus::Ok || result.end != last)
         usage_error(what + " needs a number, got '" + text + "'");
+    return value;
+}
+
+// A number from 0 to 1, read as a double: a pixel count is a fraction of millions, and a float's
+// rounding (0.7 is 0.699999988) would move the limit by a pixel.
+double parse_fraction(const std::string& text, const std::string& what) {
+    const char* first = text.c_str();
+    char* end = nullptr;
+    const bool plain = !text.empty() && text.find_first_not_of("0123456789.eE+-") == std::string::npos;
+    const double value = plain ? std::strtod(first, &end) : 0.0;
+    if (!plain || end != first + text.size() || !std::isfinite(value))
+        usage_error(what + " needs a number from 0 to 1, got '" + text + "'");
+    if (!(value >= 0 && value <= 1)) usage_error(what + " must be from 0 to 1, got " + text);
     return value;
 }
 
@@ -272,6 +289,17 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             } else if (compare && arg == "--diff") {
                 if (++i >= argc) usage_error("--diff needs a file name");
                 options.diff_path = argv[i];
+            } else if (compare && arg == "--mask") {
+                if (++i >= argc) usage_error("--mask needs a file name");
+                options.mask_path = argv[i];
+            } else if (compare && arg == "--max-diff") {
+                if (++i >= argc) usage_error("--max-diff needs a number of levels, 0 to 255");
+                options.tolerance.max_diff = parse_count(argv[i], "--max-diff", 255);
+                options.grade = true;
+            } else if (compare && arg == "--max-fraction") {
+                if (++i >= argc) usage_error("--max-fraction needs a fraction of the pixels, 0 to 1");
+                options.tolerance.max_fraction = parse_fraction(argv[i], "--max-fraction");
+                options.grade = true;
             } else if (!compare && (arg == "-o" || arg == "--output")) {
                 if (++i >= argc) usage_error(arg + " needs a file name");
                 options.merge_output = argv[i];

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "image/compare_images.h"
 #include "render/render.h"
 #include "scene/conventions.h"
 
@@ -52,6 +53,9 @@ struct CliOptions {
     // compare
     std::vector<std::string> inputs;  ///< compare: A B; merge: the pieces
     std::string diff_path;
+    bool grade = false;        ///< --max-diff or --max-fraction given: exit 1 beyond the tolerance
+    ImageTolerance tolerance;  ///< --max-diff L (default 0) and --max-fraction F (default 0)
+    std::string mask_path;     ///< --mask: pixels black in it are ignored
 
     // merge
     std::string merge_output;

@@ -35,6 +35,7 @@ namespace {
 
 constexpr int kExitInputError = 1;
 constexpr int kExitUsageError = 2;
+constexpr int kExitImagesDiffer = 1;  // compare beyond its --max-diff/--max-fraction tolerance
 
 void print_diagnostics(const std::vector<Diagnostic>& diagnostics) {
     for (const Diagnostic& d : diagnostics) std::fputs(format_diagnostic(d).c_str(), stderr);
@@ -301,9 +302,20 @@ int run_compare(const CliOptions& options) {
     if (a.width != b.width || a.height != b.height)
         throw InputError(options.inputs[1], string_printf("cannot compare: it is %dx%d but '%s' is %dx%d", b.width, b.height,
                                                           options.inputs[0].c_str(), a.width, a.height));
-    check_output_path(options.diff_path, options.inputs, "an image being compared");
-    const ImageComparison c = compare_images(a, b);
+    ImageRgb8 mask;
+    std::vector<std::string> inputs = options.inputs;
+    if (!options.mask_path.empty()) {
+        mask = read_image(options.mask_path);
+        if (mask.width != a.width || mask.height != a.height)
+            throw InputError(options.mask_path, string_printf("cannot use it as a mask: it is %dx%d but the images are %dx%d",
+                                                              mask.width, mask.height, a.width, a.height));
+        inputs.push_back(options.mask_path);
+    }
+    const ImageRgb8* ignore = options.mask_path.empty() ? nullptr : &mask;
+    check_output_path(options.diff_path, inputs, "an image being compared");
+    const ImageComparison c = compare_images(a, b, ignore);
     std::printf("compared %s and %s (%dx%d)\n", options.inputs[0].c_str(), options.inputs[1].c_str(), a.width, a.height);
+    if (ignore) std::printf("ignored pixels (black in %s): %zu\n", options.mask_path.c_str(), c.ignored_pixels);
     std::printf("differing pixels: %zu of %zu (%.4f%%)\n", c.differing_pixels, c.pixel_count,
                 c.pixel_count ? 100.0 * static_cast<double>(c.differing_pixels) / static_cast<double>(c.pixel_count) : 0.0);
     std::printf("pixels off by more than 1 level: %zu\n", c.pixels_beyond(1));
@@ -312,7 +324,16 @@ int run_compare(const CliOptions& options) {
         std::printf("PSNR: inf (identical)\n");
     else
         std::printf("PSNR: %.2f dB\n", c.psnr);
-    if (!options.diff_path.empty()) write_image(options.diff_path, difference_heat_map(a, b));
+    if (!options.diff_path.empty()) write_image(options.diff_path, difference_heat_map(a, b, ignore));
+    if (options.grade) {
+        std::string why;
+        if (!within_tolerance(c, options.tolerance, &why)) {
+            std::fflush(stdout);  // the report first, also when both go to one pipe
+            std::fprintf(stderr, "raycast: images differ: %s\n", why.c_str());
+            return kExitImagesDiffer;
+        }
+        std::printf("within tolerance: %s\n", why.c_str());
+    }
     return 0;
 }
 

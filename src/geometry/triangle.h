@@ -60,6 +60,13 @@ inline bool intersect_triangle(const WatertightRay& ray, Vec3f p0, Vec3f p1, Vec
     return true;
 }
 
+/// Whether the triangle has no area in floats: its vertices are on one line (or coincide). Such a
+/// triangle is never hit, because the scene keeps it out of its BVHs (build_scene.cpp); the test
+/// above alone does not promise that: when the triangle's line passes through the ray's origin,
+/// rounding in the shear can leave two edge functions 0 and the third not, a "hit" at a vertex
+/// that the ray does not meet.
+inline bool is_degenerate_triangle(Vec3f p0, Vec3f p1, Vec3f p2) { return is_zero(cross(p1 - p0, p2 - p0)); }
+
 /// The geometric normal normalize((p1 − p0) × (p2 − p0)): counter-clockwise faces face you.
 inline Vec3f triangle_normal(Vec3f p0, Vec3f p1, Vec3f p2) { return normalize(cross(p1 - p0, p2 - p0)); }
 

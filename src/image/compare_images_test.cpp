@@ -5,6 +5,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace raycast {
@@ -56,6 +57,66 @@ TEST(CompareImages, HandComputedFourPixelsBothSigns) {
     const ImageComparison swapped = compare_images(b, a);
     EXPECT_EQ(swapped.max_channel_error, c.max_channel_error);
     EXPECT_EQ(swapped.psnr, c.psnr);
+}
+
+TEST(CompareImages, AMaskLeavesItsBlackPixelsOutOfEveryFigure) {
+    // The four pixels above with the last (off by 255) black in the mask: left are per-pixel errors
+    // 1, 0, 5 over 3 pixels; channel sum 1 + 5 = 6 over 9 channels; squared sum 1 + 25 = 26, so
+    // PSNR 10·log10(255² · 9/26) = 43.5235 dB. Any colour but black keeps a pixel (here 1, 0, 0).
+    const ImageRgb8 a = make_image(2, 2, {0, 0, 0, 9, 9, 9, 0, 5, 0, 255, 255, 255});
+    const ImageRgb8 b = make_image(2, 2, {1, 0, 0, 9, 9, 9, 0, 0, 0, 0, 0, 0});
+    const ImageRgb8 mask = make_image(2, 2, {255, 255, 255, 1, 0, 0, 0, 0, 1, 0, 0, 0});
+    const ImageComparison c = compare_images(a, b, &mask);
+    EXPECT_EQ(c.pixel_count, 3u);
+    EXPECT_EQ(c.ignored_pixels, 1u);
+    EXPECT_EQ(c.differing_pixels, 2u);
+    EXPECT_EQ(c.max_error, 5);
+    EXPECT_NEAR(c.mean_error, 6.0 / 9.0, 1e-12);
+    EXPECT_NEAR(c.psnr, 43.52349522336417, 1e-9);
+    EXPECT_EQ(c.max_channel_error, (std::vector<uint8_t>{1, 0, 5, 0}));
+    // The heat map leaves the ignored pixel black, and the largest difference left (5) is white;
+    // 1 of 5 is at 0.6 of the ramp's first third, from dark blue (0, 0, 160) to red: (153, 0, 64).
+    EXPECT_EQ(difference_heat_map(a, b, &mask).rgb,
+              (LargeVector<uint8_t>{153, 0, 64, 0, 0, 0, 255, 255, 255, 0, 0, 0}));
+    const ImageRgb8 small_mask(1, 2);
+    EXPECT_THROW(compare_images(a, b, &small_mask), std::invalid_argument);
+}
+
+// A comparison of 1000 pixels of which `beyond` differ by 5 levels and the rest not at all.
+ImageComparison thousand_pixels(size_t beyond) {
+    ImageComparison c;
+    c.pixel_count = 1000;
+    c.max_channel_error.assign(1000, 0);
+    for (size_t i = 0; i < beyond; ++i) c.max_channel_error[i] = 5;
+    return c;
+}
+
+TEST(ImageTolerance, AllowsTheFractionOfThePixelsRoundedDown) {
+    const ImageTolerance course{1, 0.001};
+    EXPECT_EQ(course.allowed_pixels(40000), 40u);
+    EXPECT_EQ(course.allowed_pixels(39999), 39u);
+    EXPECT_EQ(course.allowed_pixels(1000), 1u);
+    EXPECT_EQ(course.allowed_pixels(999), 0u);
+    // Decimal fractions whose binary products fall a hair short of the whole number.
+    EXPECT_EQ((ImageTolerance{0, 0.003}).allowed_pixels(1000), 3u);
+    EXPECT_EQ((ImageTolerance{0, 0.7}).allowed_pixels(10), 7u);
+    EXPECT_EQ((ImageTolerance{0, 1}).allowed_pixels(12345), 12345u);
+    EXPECT_EQ((ImageTolerance{0, 0}).allowed_pixels(12345), 0u);
+}
+
+TEST(ImageTolerance, SaysInOneLineHowFarTheImagesAreFromIt) {
+    std::string why;
+    EXPECT_FALSE(within_tolerance(thousand_pixels(2), ImageTolerance{1, 0.001}, &why));
+    EXPECT_EQ(why, "2 of 1000 pixels (0.2%) differ by more than 1 level; at most 0.1% (1 pixel) may");
+    EXPECT_TRUE(within_tolerance(thousand_pixels(1), ImageTolerance{1, 0.001}, &why));
+    EXPECT_EQ(why, "1 of 1000 pixels (0.1%) differ by more than 1 level; at most 0.1% (1 pixel) may");
+    EXPECT_TRUE(within_tolerance(thousand_pixels(2), ImageTolerance{5, 0}, &why));
+    EXPECT_EQ(why, "0 of 1000 pixels (0%) differ by more than 5 levels; none may");
+    EXPECT_FALSE(within_tolerance(thousand_pixels(2), ImageTolerance{4, 0}, &why));
+    EXPECT_EQ(why, "2 of 1000 pixels (0.2%) differ by more than 4 levels; none may");
+    EXPECT_FALSE(within_tolerance(thousand_pixels(52), ImageTolerance{1, 0.025}, &why));
+    EXPECT_EQ(why, "52 of 1000 pixels (5.2%) differ by more than 1 level; at most 2.5% (25 pixels) may");
+    EXPECT_FALSE(within_tolerance(thousand_pixels(2), ImageTolerance{1, 0.001}));  // without a why
 }
 
 TEST(CompareImages, IdenticalImagesHaveInfinitePsnr) {

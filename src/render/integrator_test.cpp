@@ -295,6 +295,33 @@ TEST(WhittedTest, ReflectedAndTransmittedColoursAddUpWithTheirMultipliers) {
 // ---------------------------------------------------------------------------------------------
 // Lights and shadows.
 
+// Found through the generated scenes (one of them made a transparent-shadow walk of 65,536 rays
+// for one camera sample, the budget's limit, and took 1.6 s for 8x6 pixels): new rays
+// were moved off a surface along its shading normal, which on a mesh with vertex normals may point
+// to the other side of the triangle; the shadow ray then met the same triangle again, and again,
+// each time filtered by its transparentColor. Here the triangle lies in z = 0 facing +z, its vertex
+// normal (-0.6, 0, 0.8) leans away from a light that grazes the plane from above: each shadow ray
+// must leave upwards and meet nothing, one ray per pixel.
+TEST(WhittedTest, ShadowRaysLeaveASmoothMeshOnTheSideOfItsTriangle) {
+    SceneDesc desc = scene_of(mesh_object(0), {glass({0.5f, 0.5f, 0.5f}, 1)}, {0, 0, 0}, {0, 0, 0},
+                              {directional({-1, 0, -0.1f}, {1, 1, 1})});
+    TriangleMesh mesh;
+    mesh.positions = {{-10, -10, 0}, {10, -10, 0}, {0, 10, 0}};
+    mesh.indices = {0, 1, 2};
+    mesh.normals = {{-0.6f, 0, 0.8f}};
+    mesh.normal_indices = {0, 0, 0};
+    desc.meshes.push_back(MeshDesc{"leaning.obj", mesh});
+    const Scene scene = build(std::move(desc));
+    RenderOptions options;
+    options.shadows = true;
+    options.transparent_shadows = true;
+    RenderStats stats;
+    render_image(scene, options, &stats);
+    EXPECT_EQ(stats.hits, 64u);  // the 8x8 camera sees nothing but the triangle
+    EXPECT_EQ(stats.shadow_rays, 64u);
+    EXPECT_EQ(stats.truncated_samples, 0u);
+}
+
 TEST(WhittedTest, PointLightAttenuationDividesByTheQuadraticInTheDistance) {
     // The unit sphere's pole (0, 0, 1) seen from above, lit by a point light 4 above it: N·L = 1.
     for (const Vec3f a : {Vec3f{1, 0, 0}, Vec3f{1, 0.5f, 0}, Vec3f{0, 0, 0.25f}, Vec3f{0.5f, 0.25f, 0.125f}}) {

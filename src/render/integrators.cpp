@@ -85,7 +85,8 @@ Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, Tra
         Vec3f transmittance{1, 1, 1};
         if (integrator.options.shadows) {
             const Vec3f origin =
-                offset_ray_origin(frame.surface.position, frame.normal, arriving.to_light, frame.travel_scale);
+                offset_ray_origin(frame.surface.position, frame.surface.geometric_normal, arriving.to_light,
+                                  frame.travel_scale);
             transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context);
         }
         const bool lit = transmittance != Vec3f{0, 0, 0};
@@ -140,13 +141,14 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
         // The normal as the surface defines it (interpolated on smooth meshes), before any flip for
         // shading: MIT's rule for telling entering from leaving.
         const Vec3f normal = frame.surface.normal;
+        const Vec3f plane_normal = frame.surface.geometric_normal;  // which side new rays leave on
         if (reflects) {
             TraceContext child = context;
             child.depth = context.depth + 1;
             child.weight = context.weight * length(material.reflective);
             if (child.weight >= integrator.options.weight_cutoff) {
                 const Vec3f mirrored = mirror_direction(direction, normal);
-                const Ray reflected{offset_ray_origin(frame.surface.position, normal, mirrored, frame.travel_scale),
+                const Ray reflected{offset_ray_origin(frame.surface.position, plane_normal, mirrored, frame.travel_scale),
                                     mirrored};
                 const Vec3f incoming = trace_ray(integrator, reflected, RayKind::Reflected, material.reflective, context, child);
                 const Vec3f term = material.reflective * incoming;
@@ -172,7 +174,7 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
                 if (record) record->total_internal_reflection = true;
             } else {
                 const Ray transmitted{
-                    offset_ray_origin(frame.surface.position, normal, refracted, frame.travel_scale), refracted};
+                    offset_ray_origin(frame.surface.position, plane_normal, refracted, frame.travel_scale), refracted};
                 const Vec3f incoming =
                     trace_ray(integrator, transmitted, RayKind::Transmitted, material.transparent, context, child);
                 const Vec3f term = material.transparent * incoming;
@@ -236,7 +238,7 @@ Vec3f ambient_occlusion_radiance(const Integrator& integrator, const Ray& ray, c
         const Vec3f direction = sample_cosine_hemisphere(normal, context.sampler->next_2d());
         if (!take_ray(context)) break;
         ++context.counts->occlusion;
-        const Ray probe{offset_ray_origin(surface.position, normal, direction, travel_scale), direction};
+        const Ray probe{offset_ray_origin(surface.position, surface.geometric_normal, direction, travel_scale), direction};
         const bool blocked = occluded(scene, probe, 0, integrator.ao_distance);
         open += blocked ? 0 : 1;
         if (context.tree) {
@@ -386,7 +388,7 @@ Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_l
         transmittance = transmittance * scene.materials[surface.material].transparent;
         if (transmittance == Vec3f{0, 0, 0} || !take_ray(context)) return finish({0, 0, 0}, &hit, segment);
         ++context.counts->shadow;
-        segment.origin = offset_ray_origin(surface.position, surface.normal, to_light,
+        segment.origin = offset_ray_origin(surface.position, surface.geometric_normal, to_light,
                                            ray_travel_scale(segment.origin, segment.direction, hit.t));
         if (point_light) remaining = length(light_position - segment.origin);
     }

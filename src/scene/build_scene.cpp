@@ -5,6 +5,7 @@
 #include "base/limits.h"
 #include "base/parallel.h"
 #include "bvh/build_bvh.h"
+#include "geometry/triangle.h"
 
 namespace raycast {
 
@@ -61,21 +62,34 @@ public:
         make_camera_and_lights();
         mesh_shape_of_.assign(desc_.meshes.size(), -1);
         if (desc_.root) add_object(*desc_.root, Mat4::identity(), false);
-        if (!errors_.empty()) throw InputError(std::move(errors_));
+        if (!errors_.empty()) fail(std::move(errors_));
         build_instance_bvh();
         return std::move(scene_);
     }
 
 private:
+    // Errors found here show their line of the scene file and a caret, as the parser's do.
+    [[noreturn]] void fail(std::vector<Diagnostic> errors) const {
+        attach_source_lines(errors, desc_.source_text, desc_.file);
+        throw InputError(std::move(errors));
+    }
+
     void make_camera_and_lights() {
-        if (!desc_.camera) throw InputError({error_at({desc_.file, 0, 0}, "the scene has no camera")});
+        if (!desc_.camera) fail({error_at({desc_.file, 0, 0}, "the scene has no camera")});
         const CameraDesc& camera = *desc_.camera;
         const int width = options_.width > 0 ? options_.width : camera.width;
         const int height = options_.height > 0 ? options_.height : camera.height;
         if (width <= 0 || height <= 0)
-            throw InputError({error_at(camera.location,
-                                       "the camera gives no image size: add width and height, or use --size WxH "
-                                       "(-size W H)")});
+            fail({error_at(camera.location,
+                           "the camera gives no image size: add width and height, or use --size WxH (-size W H)")});
+        // Rays start at the camera: beyond the objects' limit, the tests' products overflow as they
+        // would for an object there (found by fuzz_render_pipeline: a camera at 1e30 gave NaN pixels).
+        const float reach = std::fmax(std::fabs(camera.center.x), std::fmax(std::fabs(camera.center.y), std::fabs(camera.center.z)));
+        if (!(reach <= kMaxCoordinate))
+            fail({error_at(camera.location,
+                           string_printf("the camera is at coordinates of %g, beyond raycast's limit of %g (float "
+                                         "arithmetic would overflow): scale the scene down",
+                                         double(reach), double(kMaxCoordinate)))});
         scene_.camera = make_camera(camera, width, height, options_.conventions);
         scene_.background = desc_.background;
         if (desc_.ambient)
@@ -182,7 +196,8 @@ private:
                 scene_.triangles.push_back(tri);
                 Bounds3f b;
                 for (const Vec3f& p : object.vertices) b.grow(moved ? transform_point(world_from_object, p) : p);
-                bounds_.push_back({pad(b), id});
+                // Out of the BVH, a triangle with no area is never tested, so never hit (triangle.h).
+                if (!is_degenerate_triangle(tri.p0, tri.p1, tri.p2)) bounds_.push_back({pad(b), id});
                 check_extent(object, b);
                 break;
             }
@@ -271,8 +286,15 @@ MeshShape build_mesh_shape(TriangleMesh mesh, int threads) {
     {
         std::vector<BvhPrimitive> primitives(count);
         for (size_t i = 0; i < count; ++i) {
+            const uint32_t* corner = &mesh.indices[3 * i];
+            const Vec3f p0 = mesh.positions[corner[0]], p1 = mesh.positions[corner[1]], p2 = mesh.positions[corner[2]];
             Bounds3f b;
-            for (int k = 0; k < 3; ++k) b.grow(mesh.positions[mesh.indices[3 * i + static_cast<size_t>(k)]]);
+            // An empty box keeps a triangle with no area out of the tree, so it is never hit (triangle.h).
+            if (!is_degenerate_triangle(p0, p1, p2)) {
+                b.grow(p0);
+                b.grow(p1);
+                b.grow(p2);
+            }
             primitives[i] = {b, static_cast<uint32_t>(i)};
         }
         BvhBuildOptions options;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "geometry/triangle.h"
 #include "sceneio/load_scene.h"
 #include "scene_builders.h"
 
@@ -256,6 +257,32 @@ TEST(BuildSceneTest, TwoDifferentMeshesAreStoredSeparately) {
 
 const char* const kSingularMessage =
     "this transform cannot be inverted (it squashes space flat): check for a zero scale";
+
+// Found by fuzz_render_pipeline (fuzz/regressions/fuzz_render_pipeline-degenerate-triangle-hit): a
+// triangle on one line, (0,0,0) (1,1,1) (2,2,2), seen from a point on that line. The watertight
+// test's edge functions come out 0, 0 and a rounding error for some rays through the triangle's
+// box, which made a "hit" at a vertex the ray never meets; the sphere behind was hidden.
+TEST(BuildSceneTest, ATriangleWithNoAreaIsNeverHitEvenFromAPointOnItsLine) {
+    const Vec3f eye{-2.30940104f, -2.30940104f, -2.30940104f};
+    TriangleMesh line_mesh;
+    line_mesh.positions = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}};
+    line_mesh.indices = {0, 1, 2};
+    SceneDesc desc = scene_with(group({triangle({0, 0, 0}, {1, 1, 1}, {2, 2, 2}), mesh_object(0),
+                                       sphere({1.155f, 1.305f, 3.704f}, 0.3f)}));
+    desc.meshes.push_back(MeshDesc{"line.obj", line_mesh});
+    const Scene scene = build(std::move(desc));
+    ASSERT_TRUE(is_degenerate_triangle({0, 0, 0}, {1, 1, 1}, {2, 2, 2}));
+    // Towards points of the box [0, 2]³ off the line, among them three where the old scene "hit"
+    // the triangle (t 1.07, 0.81, 1.19); the first meets the sphere further on, about t = 1.45
+    // (its centre is at t = 1.5, and the direction is 5.2 long).
+    for (const Vec3f target : {Vec3f{0, 0.1f, 1.7f}, Vec3f{0, 0.1f, 1.8f}, Vec3f{0, 0.3f, 1.3f}, Vec3f{1, 1.5f, 0.5f}}) {
+        const Traced traced = trace(scene, eye, target - eye);
+        EXPECT_FALSE(traced.hit && traced.object < 2) << target.x << " " << target.y << " " << target.z;
+    }
+    EXPECT_TRUE(trace(scene, eye, Vec3f{0, 0.1f, 1.7f} - eye).hit);
+    EXPECT_EQ(trace(scene, eye, Vec3f{0, 0.1f, 1.7f} - eye).object, 2u);
+    EXPECT_FALSE(occluded(scene, Ray{eye, Vec3f{0, 0.1f, 1.8f} - eye}, 0, 1.0f));
+}
 
 TEST(BuildSceneTest, SingularTransformIsAnInputErrorAtTheTransform) {
     const SceneDesc desc =

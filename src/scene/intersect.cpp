@@ -29,6 +29,8 @@ struct Query {
         const BoxRay box_ray = make_box_ray(ray, t_min);
         const LeafTriangle* triangles = shape.leaf_triangles.data();
         const uint32_t* ids = shape.bvh.prim_order.data();
+        // Leaf ranges index both arrays (traverse_bvh checks them against prim_order).
+        RAYCAST_DCHECK(shape.leaf_triangles.size() == shape.bvh.prim_order.size());
         return traverse_bvh(
             shape.bvh, box_ray, [&] { return kAnyHit ? t_max : best.t; },
             [&](uint32_t first, uint32_t count) {
@@ -48,7 +50,13 @@ struct Query {
     }
 
     bool instance(uint32_t id, const Ray& world_ray) {
+        RAYCAST_DCHECK(id < scene.instances.size());
         const Instance& inst = scene.instances[id];
+        RAYCAST_DCHECK(inst.transform == kNoTransform || inst.transform < scene.object_from_world.size());
+        RAYCAST_DCHECK(inst.shape < (inst.kind == ShapeKind::Sphere     ? scene.spheres.size()
+                                     : inst.kind == ShapeKind::Triangle ? scene.triangles.size()
+                                     : inst.kind == ShapeKind::Mesh     ? scene.meshes.size()
+                                                                        : scene.planes.size()));
         const Ray ray = inst.transform == kNoTransform ? world_ray
                                                        : to_object_space(scene.object_from_world[inst.transform], world_ray);
         switch (inst.kind) {
@@ -111,6 +119,7 @@ struct Query {
 
 void intersect(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceCounters* counters) {
     Query<false>{scene, t_min, INFINITY, hit, counters}.run(ray);
+    RAYCAST_DCHECK(!hit.is_hit() || hit.t > t_min);
 }
 
 bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max) {
@@ -148,6 +157,7 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
             RAYCAST_DCHECK(hit.leaf < shape.leaf_triangles.size() && shape.bvh.prim_order[hit.leaf] == hit.prim);
             const LeafTriangle& corners = shape.leaf_triangles[hit.leaf];
             normal = triangle_normal(corners.p0, corners.p1, corners.p2);
+            surface.geometric_normal = normal;
             if (mesh.has_normals()) {
                 const uint32_t* n = &mesh.normal_indices[3 * size_t{hit.prim}];
                 if (n[0] != kNoNormal && n[1] != kNoNormal && n[2] != kNoNormal) {
@@ -160,7 +170,12 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
             break;
         }
     }
-    if (inst.transform != kNoTransform) normal = transform_normal(scene.object_from_world[inst.transform], normal);
+    if (inst.kind != ShapeKind::Mesh) surface.geometric_normal = normal;
+    if (inst.transform != kNoTransform) {
+        const Mat4& object_from_world = scene.object_from_world[inst.transform];
+        normal = transform_normal(object_from_world, normal);
+        surface.geometric_normal = transform_normal(object_from_world, surface.geometric_normal);
+    }
     surface.normal = normal;
     return surface;
 }

@@ -115,6 +115,7 @@ PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa) : scene_(scene), i
 
 void PacketTracer::intersect(const Ray* rays, int count, float t_min, Hit* hits) const {
     RAYCAST_DCHECK(count >= 0 && count <= lanes());
+    for (int k = 0; k < count; ++k) RAYCAST_DCHECK(!hits[k].is_hit());
     if (!kernel_) {
         for (int k = 0; k < count; ++k) raycast::intersect(scene_, rays[k], t_min, hits[k]);
         return;

@@ -155,6 +155,9 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
                 const VM both = hit_left & hit_right;
                 const unsigned lane = lowest_lane(any(both) ? bits(both) : bits(hit_left));
                 const bool left_first = lane_value(t_left, lane) <= lane_value(t_right, lane);
+                // At most one entry per level above the node: the builder keeps trees within
+                // kMaxBvhDepth levels (build_bvh.cpp), the size of this stack.
+                RAYCAST_DCHECK(stack_size < static_cast<int>(sizeof stack / sizeof stack[0]));
                 stack[stack_size++] = left_first ? node.first + 1 : node.first;
                 current = left_first ? node.first : node.first + 1;
                 mask = left_first ? hit_left : hit_right;
@@ -192,6 +195,7 @@ inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t obje
         closer = closer | mask_from_bits(extra);
     }
     if (!any(closer)) return;
+    RAYCAST_DCHECK((bits(closer) >> s.count) == 0);  // hits[] holds only the packet's rays
     float ts[kLanes], us[kLanes], vs[kLanes];
     store(ts, t);
     store(us, u);
@@ -252,6 +256,7 @@ inline void refresh_best(PacketState& s) {
 
 // Hands the lanes to the scalar code, one ray at a time (exactly the single-ray path).
 inline void intersect_instance_lanes(PacketState& s, uint32_t id, VM lanes) {
+    RAYCAST_DCHECK((bits(lanes) >> s.count) == 0);
     for (unsigned b = bits(lanes); b; b &= b - 1) {
         const unsigned lane = lowest_lane(b);
         intersect_instance(*s.view.scene, id, s.rays[lane], s.t_min, s.hits[lane]);
@@ -284,6 +289,8 @@ inline PacketRays transform_packet(const PacketRays& r, const Mat4& m) {
 }
 
 inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) {
+    // Dead lanes copy lane 0, and the live mask is (1 << count) - 1.
+    RAYCAST_DCHECK(count >= 1 && count <= kLanes);
     PacketState s{view, rays, hits, count, t_min, splat(t_min), splat(0.0f)};
     // Structure of arrays; dead lanes repeat lane 0 so that they hold no garbage.
     float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];

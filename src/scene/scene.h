@@ -87,7 +87,12 @@ bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max);
 /// What shading needs to know about a hit.
 struct SurfacePoint {
     Vec3f position;  ///< world space: ray.origin + t·ray.direction
-    Vec3f normal;    ///< world space, unit; as the geometry defines it (never flipped)
+    Vec3f normal;    ///< world space, unit; as the geometry defines it (never flipped); a mesh's
+                     ///< vertex normals interpolated where it has them
+    /// World space, unit: the normal of the surface's own plane (of the triangle, for a mesh with
+    /// vertex normals too). New rays leave the surface on its side of this one: an interpolated
+    /// normal can point to the other side of the triangle, and a ray moved that way meets it again.
+    Vec3f geometric_normal;
     uint32_t material = 0;
 };
 

@@ -82,6 +82,8 @@ struct SceneDesc {
     std::optional<ObjectDesc> root;  ///< the top-level Group
     std::vector<MeshDesc> meshes;
     std::vector<Diagnostic> warnings;
+    /// The scene file's text, from which build_scene shows the lines of the errors it finds.
+    std::string source_text;
 };
 
 }  // namespace raycast

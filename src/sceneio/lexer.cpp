@@ -1,7 +1,5 @@
 #include "sceneio/lexer.h"
 
-#include <algorithm>
-
 namespace raycast {
 
 namespace {
@@ -92,13 +90,7 @@ std::string quote_token(std::string_view text) {
 Diagnostic make_diagnostic(const Lexer& lexer, const Token& token, Severity severity, std::string message) {
     Diagnostic diagnostic{severity, lexer.location(token), std::move(message), ""};
     const std::string_view line = lexer.line_text(token.line);
-    // Show the line only if it is text a terminal prints as is and short enough to read; the
-    // caret display replaces nothing, so a line of binary garbage is better left out.
-    const bool printable = line.size() <= 300 && std::all_of(line.begin(), line.end(), [](char c) {
-                               const unsigned char u = static_cast<unsigned char>(c);
-                               return u == '\t' || (u >= 0x20 && u != 0x7f);
-                           });
-    if (printable) diagnostic.source_line = std::string(line);
+    if (is_displayable_source_line(line)) diagnostic.source_line = std::string(line);
     return diagnostic;
 }
 

@@ -19,6 +19,7 @@
 #include "base/limits.h"
 #include "base/parallel.h"
 #include "base/parse_number.h"
+#include "sceneio/text_check.h"
 
 namespace raycast {
 
@@ -149,6 +150,7 @@ struct Chunk {
     uint64_t texcoords = 0;
     uint64_t triangles = 0;
     bool uses_normals = false;
+    const char* first_non_text = nullptr;  // the chunk's first byte that shows a binary file
 
     // The totals of all chunks before this one.
     uint64_t first_line = 1;
@@ -183,12 +185,19 @@ std::vector<Chunk> split_into_chunks(std::string_view text, int threads, size_t 
 
 // The first pass: how many elements and triangles the chunk adds, so that the second pass can
 // write straight into exactly sized arrays. It must classify lines exactly as ChunkParser does.
+// It also finds the first byte that shows the file is binary (sceneio/text_check.h), if any: a
+// NUL, or a line that starts like no text; the file is then refused before anything is parsed.
 void count_chunk(Chunk& chunk, const char* text_begin) {
     const char* p = chunk.begin;
     const char* end = chunk.end;
+    const char* nul = static_cast<const char*>(std::memchr(p, 0, static_cast<size_t>(end - p)));
     while (p != end) {
         if (p == text_begin) p = skip_byte_order_mark(p, end);
         p = skip_blanks(p, end);
+        if (p != end && is_suspect_line_start(static_cast<unsigned char>(*p)) && non_text_problem(p, end)) {
+            chunk.first_non_text = nul && nul < p ? nul : p;
+            return;
+        }
         switch (read_keyword(p, end)) {
         case Statement::Vertex: ++chunk.vertices; break;
         case Statement::Normal: ++chunk.normals; break;
@@ -216,6 +225,7 @@ void count_chunk(Chunk& chunk, const char* text_begin) {
         p = next_line(p, end);
         if (p[-1] == '\n') ++chunk.newlines;
     }
+    chunk.first_non_text = nul;
 }
 
 // Where the second pass writes; null arrays are not written (the counts exceed the limits, so
@@ -478,6 +488,11 @@ TriangleMesh parse_obj(std::string_view text, const std::string& file_name, cons
     std::vector<Chunk> chunks = split_into_chunks(text, threads, options.chunk_bytes);
     const char* text_begin = text.data();
     parallel_for(chunks.size(), threads, [&](size_t item, int) { count_chunk(chunks[item], text_begin); });
+    for (const Chunk& chunk : chunks)
+        if (chunk.first_non_text) {
+            const size_t offset = static_cast<size_t>(chunk.first_non_text - text_begin);
+            throw InputError({non_text_diagnostic(text, offset, file_name)});
+        }
 
     uint64_t line = 1;
     uint64_t vertices = 0;

@@ -242,6 +242,24 @@ TEST(LoadObjErrors, LongTokensAreCutTo40Characters) {
     EXPECT_EQ(only_error(std::string("v 1 2 a\x01", 8) + "\n"), "m.obj:1:7: 'a\\x01' is not a number");
 }
 
+TEST(LoadObjErrors, ABinaryFileIsRefusedAtItsFirstBadByteWhereverTheChunksAreCut) {
+    // A zip archive appended to a mesh: its header's first NUL; and an ELF executable, whose first
+    // byte is the control byte 0x7f (the rule is sceneio/text_check.h's).
+    using namespace std::string_literals;  // keeps the NUL bytes
+    const std::string zip = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n# binary below\nPK\x03\x04\x14\0\0\0"s;
+    const std::string elf = "v 0 0 0\n\x7f" "ELF\x02\x01\x01\n";
+    const std::pair<std::string, std::string> cases[] = {
+        {zip, "m.obj:6:6: this is not a text file: byte 0x00 (NUL) never appears in text\n"},
+        {elf, "m.obj:2:1: this is not a text file: byte 0x7f is a control character at the start of a line\n"},
+    };
+    for (const auto& [text, expected] : cases) {
+        for (size_t chunk_bytes = 1; chunk_bytes <= text.size() + 1; ++chunk_bytes)
+            for (int threads : {1, 3})
+                EXPECT_EQ(all_located(errors_of(text, threads, chunk_bytes)), expected)
+                    << "chunk_bytes " << chunk_bytes << ", threads " << threads;
+    }
+}
+
 TEST(LoadObjErrors, NumberOutOfRange) {
     EXPECT_EQ(only_error("v 1 1e39 0\n"), "m.obj:1:5: number '1e39' is out of range");
     EXPECT_EQ(only_error("vn -4e38 0 0\n"), "m.obj:1:4: number '-4e38' is out of range");

@@ -57,11 +57,16 @@ private:
     void load(ObjectDesc& object) {
         const auto tried = candidates(object.mesh_path);
         const std::string* found = nullptr;
-        for (const auto& candidate : tried)
-            if (is_regular_file(candidate.first)) {
-                found = &candidate.first;
-                break;
+        const std::string* in_memory = nullptr;
+        if (options_.in_memory_meshes) {
+            const auto text = options_.in_memory_meshes->find(object.mesh_path);
+            if (text != options_.in_memory_meshes->end()) {
+                found = &object.mesh_path;
+                in_memory = &text->second;
             }
+        }
+        for (size_t i = 0; i < tried.size() && !in_memory && !found; ++i)
+            if (is_regular_file(tried[i].first)) found = &tried[i].first;
         if (!found) {
             std::string message = "cannot open OBJ file " + quote(object.mesh_path) + ": tried ";
             for (size_t i = 0; i < tried.size(); ++i) {
@@ -87,7 +92,13 @@ private:
         try {
             ObjLoadOptions obj_options;
             obj_options.threads = options_.threads;
-            MeshDesc mesh{*found, load_obj_file(*found, obj_options)};
+            MeshDesc mesh{*found, in_memory ? parse_obj(*in_memory, *found, obj_options)
+                                            : load_obj_file(*found, obj_options)};
+            // Located at the first TriangleMesh that names the file; the others share its mesh.
+            if (mesh.mesh.triangle_count() == 0)
+                warnings_.push_back({Severity::Warning, object.location,
+                                     "the OBJ file " + quote(*found) + " has no faces ('f' lines): this mesh draws nothing",
+                                     ""});
             object.mesh = static_cast<int>(desc_.meshes.size());
             index_of_path_[*found] = object.mesh;
             desc_.meshes.push_back(std::move(mesh));
@@ -110,23 +121,6 @@ private:
     std::vector<Diagnostic> errors_;
     std::vector<Diagnostic> warnings_;
 };
-
-// Attaches the source line to diagnostics located in the scene text (the OBJ loader fills its own).
-void add_source_lines(std::vector<Diagnostic>& diagnostics, const std::string& text, const std::string& file) {
-    for (Diagnostic& d : diagnostics) {
-        if (d.location.file != file || d.location.line <= 0 || !d.source_line.empty()) continue;
-        size_t start = 0;
-        for (int line = 1; line < d.location.line && start != std::string::npos; ++line) {
-            start = text.find('\n', start);
-            if (start != std::string::npos) ++start;
-        }
-        if (start == std::string::npos) continue;
-        size_t end = text.find('\n', start);
-        if (end == std::string::npos) end = text.size();
-        if (end > start && text[end - 1] == '\r') --end;
-        if (end - start <= 300) d.source_line = text.substr(start, end - start);
-    }
-}
 
 }  // namespace
 
@@ -162,10 +156,10 @@ SceneDesc load_scene_text(const std::string& text, const std::string& file_name,
         loader.load_all(*desc.root);
         if (!loader.errors().empty()) {
             std::vector<Diagnostic> all = std::move(loader.errors());
-            add_source_lines(all, text, file_name);
+            attach_source_lines(all, text, file_name);
             throw InputError(std::move(all));
         }
-        add_source_lines(loader.warnings(), text, file_name);
+        attach_source_lines(loader.warnings(), text, file_name);
         for (Diagnostic& warning : loader.warnings()) desc.warnings.push_back(std::move(warning));
     }
     return desc;

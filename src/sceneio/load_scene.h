@@ -1,6 +1,7 @@
 // Reads a scene file and the OBJ meshes it names: the whole input stage of the pipeline.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "scene/scene_desc.h"
@@ -12,6 +13,9 @@ struct SceneLoadOptions {
     /// A mesh file that is found nowhere becomes a warning (and the object is left out) instead of
     /// an error: the course starter's leniency, for scenes shared without their large meshes.
     bool allow_missing_meshes = false;
+    /// For tests and fuzzing: OBJ text by mesh path as the scene writes it. A TriangleMesh whose
+    /// path is here is parsed from this text and the file system is not asked.
+    const std::map<std::string, std::string>* in_memory_meshes = nullptr;
 };
 
 /// Reads and parses the scene file, then loads every OBJ file it names, each once. A relative mesh

@@ -4,11 +4,14 @@
 #include <cmath>
 #include <functional>
 #include <initializer_list>
+#include <optional>
 
 #include "base/limits.h"
 #include "base/parallel.h"
 #include "base/parse_number.h"
+#include "geometry/triangle.h"
 #include "sceneio/lexer.h"
+#include "sceneio/text_check.h"
 
 namespace raycast {
 
@@ -668,7 +671,7 @@ private:
             };
             finish_fields(keyword, fields);
             const Vec3f* v = object.vertices;
-            if (fields[0].seen && fields[1].seen && fields[2].seen && length(cross(v[1] - v[0], v[2] - v[0])) == 0)
+            if (fields[0].seen && fields[1].seen && fields[2].seen && is_degenerate_triangle(v[0], v[1], v[2]))
                 warning(keyword, "degenerate triangle: its vertices are on one line, so it is never seen");
         } else if (keyword.is("TriangleMesh")) {
             object.kind = ObjectDesc::Kind::TriangleMesh;
@@ -839,7 +842,9 @@ private:
             const float degrees = read_float("Rotate");
             const Token close = lexer_.take();
             if (!close.is("}")) fail(close, "expected '}' after 'Rotate { x y z degrees', got " + describe(close));
-            if (dot(axis, axis) == 0) fail(axis_token, "the 'Rotate' axis must not be the zero vector");
+            // Not dot(axis, axis) == 0: that underflows for axes of 1e-20 and less, which Mat4::rotate
+            // normalises in double without trouble.
+            if (is_zero(axis)) fail(axis_token, "the 'Rotate' axis must not be the zero vector");
             return m * Mat4::rotate(axis, degrees);
         }
         // Matrix4f lists columns (the course's port onto a column-major class); Matrix lists rows.
@@ -873,10 +878,14 @@ private:
 }  // namespace
 
 SceneDesc parse_scene(std::string_view text, const std::string& file_name) {
+    // A binary file would make only a cascade of unknown keywords: one error says what it is.
+    if (const std::optional<size_t> bad = find_non_text_byte(text))
+        throw InputError({non_text_diagnostic(text, *bad, file_name)});
     // The parser recurses once per nesting level (up to kMaxNestingDepth): give it a stack that
     // holds that many levels in any build.
     SceneDesc desc;
     call_with_stack(kDeepRecursionStackBytes, [&] { desc = Parser(text, file_name).parse(); });
+    desc.source_text = std::string(text);
     return desc;
 }
 

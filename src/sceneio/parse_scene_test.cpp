@@ -426,6 +426,20 @@ TEST(ParseSceneTest, CommentsAndCrlfAndTabsAreIgnored) {
     EXPECT_EQ(desc.root->children.at(0).location.column, 38);
 }
 
+TEST(ParseSceneTest, ABinaryFileIsOneErrorAtItsFirstBadByte) {
+    // Not a cascade of unknown keywords: one error at the first byte that no text holds (the rule
+    // of sceneio/text_check.h), here the NUL of a file cut into a scene.
+    EXPECT_EQ(errors_of(kCamera + std::string("Group {\0\x01\x02}", 11)),
+              "s.txt:2:8: this is not a text file: byte 0x00 (NUL) never appears in text\n");
+    EXPECT_EQ(errors_of(kCamera + "\x1b[1mGroup { }\n"),
+              "s.txt:2:1: this is not a text file: byte 0x1b is a control character at the start of a line\n");
+}
+
+TEST(ParseSceneTest, KeepsTheTextForTheLinesOfLaterErrors) {
+    const std::string text = scene_with_group(1, kUnitSphere);
+    EXPECT_EQ(parse(text).source_text, text);
+}
+
 TEST(ParseSceneTest, GroupsNestUpToTheLimitButNotBeyond) {
     auto nested = [](int levels) {
         std::string text = kCamera;
@@ -479,6 +493,12 @@ TEST(ParseSceneTest, RotateTakesAnAxisThatNeedNotBeUnitLength) {
     // s = sqrt(3)/2, k = 3/2 give the column for x as (0, 1, 0)).
     EXPECT_TRUE(near(map("Rotate { 1 1 1 120 }", {1, 0, 0}), {0, 1, 0}));
     EXPECT_TRUE(near(map("Rotate { 1 1 1 120 }", {0, 0, 1}), {1, 0, 0}));
+    // Axes whose squared length underflows float are not zero (fuzz_render_pipeline found the
+    // parser refusing them): the smallest normal float, a subnormal, and the largest float.
+    EXPECT_TRUE(near(map("Rotate { 0 0 1.17549435e-38 90 }", {1, 0, 0}), {0, 1, 0}));
+    EXPECT_TRUE(near(map("Rotate { 1.17549435e-38 1.17549435e-38 1.17549435e-38 120 }", {1, 0, 0}), {0, 1, 0}));
+    EXPECT_TRUE(near(map("Rotate { 0 0 1e-45 90 }", {1, 0, 0}), {0, 1, 0}));
+    EXPECT_TRUE(near(map("Rotate { 0 0 3.4e38 90 }", {1, 0, 0}), {0, 1, 0}));
 }
 
 TEST(ParseSceneTest, TheLastListedItemAppliesToTheObjectFirst) {

@@ -1,0 +1,38 @@
+// The rule that tells a text file from a binary one, shared by the scene parser and the OBJ loader
+// (docs/scene-format.md, "Files that are not text"): a file is refused when it holds a NUL byte
+// anywhere, or when the first byte of a line that is not a blank (space, tab, CR, VT, FF) is a
+// control byte or a byte of 0x80 or more that does not begin a valid UTF-8 character.
+// Binary files (a zip renamed .obj, an FBX, a PLY with a binary body) break it within their first
+// lines; text in any ASCII-compatible encoding keeps it, with anything after a line's first
+// character (a comment in GBK or Latin-1, say) left alone. Entry points: find_non_text_byte,
+// non_text_problem, non_text_diagnostic.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "base/error.h"
+
+namespace raycast {
+
+/// Whether byte c, first on its line, needs non_text_problem to judge it: a control byte other
+/// than the blanks and LF, or a byte of 0x80 or more. One comparison for the usual printable byte.
+inline bool is_suspect_line_start(unsigned char c) {
+    return c >= 0x7f || (c < 0x20 && c != '\t' && c != '\n' && c != '\r' && c != '\v' && c != '\f');
+}
+
+/// Why the byte at p, the first non-blank byte of a line, shows that the file is not text; null
+/// when it does not (it begins a valid UTF-8 character). p < end.
+const char* non_text_problem(const char* p, const char* end);
+
+/// The offset of the first byte of `text` that breaks the rule, if any.
+std::optional<size_t> find_non_text_byte(std::string_view text);
+
+/// The error for the byte at `offset` of `text` (which breaks the rule), located at its line and
+/// column: "this is not a text file: byte 0x00 (NUL) never appears in text". It shows no source
+/// line: that line holds the byte, which a terminal cannot show.
+Diagnostic non_text_diagnostic(std::string_view text, size_t offset, const std::string& file_name);
+
+}  // namespace raycast

@@ -1,0 +1,148 @@
+#include "reference_render.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/rev_surface.h"
+#include "geometry/triangle.h"
+#include "render/integrator.h"
+#include "render/sampler.h"
+
+namespace raycast::test {
+
+ReferenceScene::ReferenceScene(const Scene& scene) : scene_(scene) {
+    // surface_at finds a mesh triangle's corners at its leaf slot: the inverse of prim_order.
+    for (const MeshShape& shape : scene.meshes) {
+        std::vector<uint32_t> leaf_of(shape.mesh.triangle_count(), 0);
+        for (uint32_t leaf = 0; leaf < shape.bvh.prim_order.size(); ++leaf) leaf_of[shape.bvh.prim_order[leaf]] = leaf;
+        leaf_of_.push_back(std::move(leaf_of));
+    }
+}
+
+// Calls visit(t, u, v, object, prim, leaf) for the nearest hit (t > t_min) of every primitive.
+// Triangles with no area are skipped: the scene's rule is that they are never hit
+// (geometry/triangle.h, is_degenerate_triangle).
+template <typename Visit>
+void ReferenceScene::for_each_hit(const Ray& world_ray, float t_min, Visit&& visit) const {
+    for (uint32_t id = 0; id < scene_.instances.size(); ++id) {
+        const Instance& instance = scene_.instances[id];
+        const Ray ray = instance.transform == kNoTransform
+                            ? world_ray
+                            : to_object_space(scene_.object_from_world[instance.transform], world_ray);
+        float t = 0;
+        TriangleHit hit;
+        switch (instance.kind) {
+            case ShapeKind::Sphere:
+                if (intersect_sphere(scene_.spheres[instance.shape], ray, t_min, t)) visit(t, 0.0f, 0.0f, id, 0u, 0u);
+                break;
+            case ShapeKind::Plane:
+                if (intersect_plane(scene_.planes[instance.shape], ray, t_min, t)) visit(t, 0.0f, 0.0f, id, 0u, 0u);
+                break;
+            case ShapeKind::Triangle: {
+                const TriangleShape& tri = scene_.triangles[instance.shape];
+                if (is_degenerate_triangle(tri.p0, tri.p1, tri.p2)) break;
+                if (intersect_triangle(make_watertight_ray(ray), tri.p0, tri.p1, tri.p2, t_min, hit))
+                    visit(hit.t, hit.u, hit.v, id, 0u, 0u);
+                break;
+            }
+            case ShapeKind::RevSurface: {
+                // The surface's own exact test, over the whole ray (no BVH above it to cull).
+                RevSurfaceHit rev;
+                if (intersect_rev_surface(scene_.rev_surfaces[instance.shape], ray, t_min, INFINITY, false, rev))
+                    visit(rev.t, rev.u, 0.0f, id, rev.piece, 0u);
+                break;
+            }
+            case ShapeKind::Mesh: {
+                const MeshShape& shape = scene_.meshes[instance.shape];
+                const TriangleMesh& mesh = shape.mesh;
+                const WatertightRay watertight = make_watertight_ray(ray);
+                for (uint32_t prim = 0; prim < mesh.triangle_count(); ++prim) {
+                    const uint32_t* corner = &mesh.indices[3 * size_t{prim}];
+                    const Vec3f p0 = mesh.positions[corner[0]], p1 = mesh.positions[corner[1]],
+                                p2 = mesh.positions[corner[2]];
+                    if (!is_degenerate_triangle(p0, p1, p2) && intersect_triangle(watertight, p0, p1, p2, t_min, hit))
+                        visit(hit.t, hit.u, hit.v, id, prim, leaf_of_[instance.shape][prim]);
+                }
+                break;
+            }
+        }
+    }
+}
+
+Hit ReferenceScene::intersect(const Ray& ray, float t_min) const {
+    Hit best;
+    for_each_hit(ray, t_min, [&](float t, float u, float v, uint32_t object, uint32_t prim, uint32_t leaf) {
+        if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim, leaf};
+    });
+    return best;
+}
+
+bool ReferenceScene::occluded(const Ray& ray, float t_min, float t_max) const {
+    bool blocked = false;
+    for_each_hit(ray, t_min, [&](float t, float, float, uint32_t, uint32_t, uint32_t) { blocked |= t < t_max; });
+    return blocked;
+}
+
+namespace {
+
+// Written out from the render loop's definition (docs/architecture.md, render/sampler.h): the
+// pixel's own point, or for several samples or a lens, the stratified offset and lens point.
+Ray reference_camera_ray(const Camera& camera, int x, int y, int s, int spp) {
+    const float px = static_cast<float>(x) + camera.pixel_offset;
+    const float py = static_cast<float>(y) + camera.pixel_offset;
+    if (spp == 1 && camera.lens_radius <= 0) return camera_ray(camera, px, py);
+    const uint32_t index = static_cast<uint32_t>(y) * static_cast<uint32_t>(camera.width) + static_cast<uint32_t>(x);
+    const Vec2f offset = pixel_sample_offset(index, s, spp);
+    const Vec2f lens = lens_sample(index, s);
+    return camera_ray(camera, px + (offset.x - 0.5f), py + (offset.y - 0.5f), lens.x, lens.y);
+}
+
+}  // namespace
+
+Image reference_render(const ReferenceScene& reference, const RenderOptions& options) {
+    const Scene& scene = reference.scene();
+    const Camera& camera = scene.camera;
+    const Integrator integrator = make_integrator(scene, options);
+    const int spp = std::max(1, options.samples_per_pixel);
+    Image image(camera.width, camera.height);
+    std::vector<float> depths(static_cast<size_t>(camera.width) * static_cast<size_t>(camera.height), INFINITY);
+    for (int y = 0; y < camera.height; ++y)
+        for (int x = 0; x < camera.width; ++x) {
+            const uint32_t index = static_cast<uint32_t>(y) * static_cast<uint32_t>(camera.width) + static_cast<uint32_t>(x);
+            Vec3f sum;
+            for (int s = 0; s < spp; ++s) {
+                const Ray ray = reference_camera_ray(camera, x, y, s, spp);
+                const Hit hit = reference.intersect(ray, camera.t_min);
+                if (hit.is_hit()) depths[index] = hit.t;
+                // A fresh context per sample: depth 0, weight 1, vacuum, the sample's random numbers.
+                Sampler sampler(index, s);
+                uint32_t budget = kMaxRaysPerSample;
+                RayCounts counts;
+                TraceContext context;
+                context.sampler = &sampler;
+                context.counts = &counts;
+                context.rays_left = &budget;
+                const Vec3f color = integrator.radiance(integrator, ray, hit, context);
+                sum = s == 0 ? color : sum + color;
+            }
+            image.at(x, y) = spp > 1 ? sum / static_cast<float>(spp) : sum;
+        }
+    if (options.mode == RenderMode::Depth) {
+        // Grey = clamp((far − t)/(far − near)), near white; the range is the options' or that of the hits.
+        float near = options.depth_near, far = options.depth_far;
+        if (near == 0 && far == 0) {
+            near = INFINITY;
+            far = -INFINITY;
+            for (float t : depths)
+                if (std::isfinite(t)) near = std::min(near, t), far = std::max(far, t);
+        }
+        for (size_t i = 0; i < depths.size(); ++i) {
+            if (!std::isfinite(depths[i])) continue;
+            const float grey = far > near ? std::clamp((far - depths[i]) / (far - near), 0.0f, 1.0f) : 1.0f;
+            image.pixels[i] = {grey, grey, grey};
+        }
+    }
+    return image;
+}
+
+}  // namespace raycast::test
