@@ -1,0 +1,57 @@
+// A BVH with up to kWideBvhWidth children per node, collapsed from the binned-SAH binary tree of
+// build_bvh.h. A node keeps its children's boxes side by side (one array per bound), so one SIMD
+// slab test checks every child of a node at once. Like Bvh it knows boxes and primitive ranges
+// only: what a leaf holds is up to its user, who may replace the leaves' payloads with its own.
+// Entry points: WideBvh, WideBvhNode, build_wide_bvh, collapse_bvh.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "base/large_allocator.h"
+#include "bvh/build_bvh.h"
+#include "math/bounds.h"
+
+namespace raycast {
+
+/// Children per node: 8 boxes are one AVX register per bound. (The code works for 4 as well.)
+constexpr int kWideBvhWidth = 8;
+
+/// A child reference whose top bit is set is a leaf (the other 31 bits are its payload);
+/// otherwise it is the index of an inner node.
+constexpr uint32_t kWideLeafFlag = 0x80000000u;
+constexpr uint32_t kWidePayloadMask = 0x7fffffffu;
+
+/// 256 bytes (8 children), four cache lines. Children fill slots [0, child_count); the other slots hold empty
+/// boxes (lower +inf, upper -inf) and must be masked off by child_count, never tested.
+struct alignas(64) WideBvhNode {
+    float lower[3][kWideBvhWidth];  ///< lower[axis][slot]: the children's boxes, by bound
+    float upper[3][kWideBvhWidth];
+    uint32_t child[kWideBvhWidth];  ///< an inner node's index, or kWideLeafFlag | payload
+    /// A leaf's primitives are prim_order[payload, payload + prim_count) as built; 0 for inner
+    /// children and empty slots.
+    uint16_t prim_count[kWideBvhWidth];
+    uint32_t child_count = 0;
+};
+static_assert(sizeof(WideBvhNode) == 32 * kWideBvhWidth, "a wide node should fill whole cache lines exactly");
+
+struct WideBvh {
+    LargeVector<WideBvhNode> nodes;    ///< nodes[0] is the root; empty when there is nothing
+    std::vector<uint32_t> prim_order;  ///< the primitives' ids in leaf order
+    Bounds3f bounds;                   ///< the root's box: every child box lies inside it
+
+    bool empty() const { return nodes.empty(); }
+};
+
+inline bool is_wide_leaf(uint32_t child) { return (child & kWideLeafFlag) != 0; }
+
+/// Builds the binary SAH tree of build_bvh() (same options, same leaves, same prim_order) and
+/// collapses it as it goes: each subtree built on a thread is collapsed at once and its binary
+/// nodes dropped, so the whole binary tree never exists. Consumes `primitives`.
+WideBvh build_wide_bvh(std::vector<BvhPrimitive> primitives, const BvhBuildOptions& options);
+
+/// Collapses a binary tree: each wide node takes the frontier of a binary node, opening the child
+/// with the largest surface area until kWideBvhWidth children are reached or only leaves are left.
+WideBvh collapse_bvh(const Bvh& binary);
+
+}  // namespace raycast
