@@ -158,6 +158,16 @@ inline Scene scene_of_mesh(TriangleMesh mesh, int threads = 1) {
     return scene_with(std::move(desc), threads);
 }
 
+// Calls fn(triangle, block of its group) for every triangle in the mesh's groups.
+template <typename Fn>
+void for_each_group_triangle(const MeshShape& shape, Fn&& fn) {
+    if (shape.groups.empty()) return;
+    const GroupBlock* end = shape.groups.data() + shape.groups.size() - kGroupPaddingBlocks;
+    for (const GroupBlock* group = shape.groups.data(); group < end; group = next_group(group))
+        for (uint32_t lane = 0; lane < group_triangle_count(group); ++lane)
+            fn(group_triangle(group, lane), static_cast<uint32_t>(group - shape.groups.data()));
+}
+
 inline std::string describe(const Hit& h) {
     if (!h.is_hit()) return "miss";
     char buffer[160];

@@ -105,8 +105,8 @@ WideBvhNode empty_wide_node() {
     WideBvhNode node;
     for (int axis = 0; axis < 3; ++axis)
         for (int slot = 0; slot < kWideBvhWidth; ++slot) {
-            node.lower[axis][slot] = INFINITY;
-            node.upper[axis][slot] = -INFINITY;
+            node.bounds[axis][0][slot] = INFINITY;
+            node.bounds[axis][1][slot] = -INFINITY;
         }
     for (int slot = 0; slot < kWideBvhWidth; ++slot) {
         node.child[slot] = 0;
@@ -118,15 +118,15 @@ WideBvhNode empty_wide_node() {
 
 void set_child_box(WideBvhNode& node, int slot, const Bounds3f& box) {
     for (int axis = 0; axis < 3; ++axis) {
-        node.lower[axis][slot] = box.lower[axis];
-        node.upper[axis][slot] = box.upper[axis];
+        node.bounds[axis][0][slot] = box.lower[axis];
+        node.bounds[axis][1][slot] = box.upper[axis];
     }
 }
 
 // A leaf as a wide node's child: its primitive range.
-void set_leaf_child(WideBvhNode& node, int slot, const BvhNode& leaf) {
-    node.child[slot] = kWideLeafFlag | leaf.first;
-    node.prim_count[slot] = static_cast<uint16_t>(leaf.count);
+void set_leaf_child(WideBvhNode& node, int slot, uint32_t first, uint32_t count) {
+    node.child[slot] = kWideLeafFlag | first;
+    node.prim_count[slot] = static_cast<uint16_t>(count);
 }
 
 // Turns a binary tree into wide nodes. Each wide node takes the two children of a binary inner
@@ -195,14 +195,16 @@ struct BinaryTree {
         right = left + 1;
     }
     const Bounds3f& box(Ref ref) const { return nodes[ref].bounds; }
-    void terminal(Ref ref, uint32_t, int slot, WideBvhNode& node) const { set_leaf_child(node, slot, nodes[ref]); }
+    void terminal(Ref ref, uint32_t, int slot, WideBvhNode& node) const {
+        set_leaf_child(node, slot, nodes[ref].first, nodes[ref].count);
+    }
 };
 
 // A tree of a single leaf still gets a root node, so that traversal always starts at one.
 WideBvhNode root_of_one_leaf(const BvhNode& leaf) {
     WideBvhNode node = empty_wide_node();
     set_child_box(node, 0, leaf.bounds);
-    set_leaf_child(node, 0, leaf);
+    set_leaf_child(node, 0, leaf.first, leaf.count);
     node.child_count = 1;
     return node;
 }
@@ -275,10 +277,8 @@ public:
             build(pieces_[i].range, sink, 0, pieces_[i].depth);
             WidePiece& piece = wide_pieces_[i];
             piece.root = nodes[0];
-            if (!nodes[0].is_leaf()) {
-                const BinaryTree tree{nodes.data()};
-                Collapser<BinaryTree, std::vector<WideBvhNode>>(tree, piece.nodes).emit(0);
-            }
+            const BinaryTree tree{nodes.data()};
+            if (tree.openable(0)) Collapser<BinaryTree, std::vector<WideBvhNode>>(tree, piece.nodes).emit(0);
         });
     }
 
@@ -288,7 +288,7 @@ public:
         LargeVector<WideBvhNode> nodes;
         if (root_ < 0) {  // one piece is the whole tree
             WidePiece& piece = wide_pieces_[static_cast<size_t>(~root_)];
-            if (piece.root.is_leaf()) {
+            if (piece.nodes.empty()) {
                 nodes.push_back(root_of_one_leaf(piece.root));
             } else {
                 nodes.assign(piece.nodes.begin(), piece.nodes.end());
@@ -308,8 +308,8 @@ public:
         nodes.assign(top.begin(), top.end());
         for (const PieceLink& link : tree.links) {
             const WidePiece& piece = wide_pieces_[link.piece];
-            if (piece.root.is_leaf())
-                set_leaf_child(nodes[link.node], link.slot, piece.root);
+            if (piece.nodes.empty())
+                set_leaf_child(nodes[link.node], link.slot, piece.root.first, piece.root.count);
             else
                 nodes[link.node].child[link.slot] = base[link.piece];
         }
@@ -335,7 +335,7 @@ private:
         Range range;
         int depth;
     };
-    // A piece of the wide build: its binary root, and its wide nodes when that root is inner
+    // A piece of the wide build: its binary root, and its wide nodes unless that root is a leaf
     // (local indices: node 0 is the piece's root).
     struct WidePiece {
         BvhNode root;
@@ -629,6 +629,13 @@ private:
     ChildRef root_ = 0;
 };
 
+// Empty boxes can never be hit: those primitives stay out of the tree.
+void drop_empty_boxes(std::vector<BvhPrimitive>& primitives) {
+    primitives.erase(std::remove_if(primitives.begin(), primitives.end(),
+                                    [](const BvhPrimitive& p) { return p.bounds.is_empty(); }),
+                     primitives.end());
+}
+
 double sah_cost_of(const Bvh& bvh, uint32_t index, const BvhBuildOptions& options) {
     const BvhNode& node = bvh.nodes[index];
     const double area = node.bounds.half_area();
@@ -640,9 +647,7 @@ double sah_cost_of(const Bvh& bvh, uint32_t index, const BvhBuildOptions& option
 }  // namespace
 
 Bvh build_bvh(std::vector<BvhPrimitive> primitives, const BvhBuildOptions& options) {
-    primitives.erase(std::remove_if(primitives.begin(), primitives.end(),
-                                    [](const BvhPrimitive& p) { return p.bounds.is_empty(); }),
-                     primitives.end());
+    drop_empty_boxes(primitives);
     Bvh bvh;
     if (primitives.empty()) return bvh;
     Builder builder(primitives.data(), options);
@@ -673,9 +678,7 @@ double sah_cost(const Bvh& bvh, const BvhBuildOptions& options) {
 namespace raycast {
 
 WideBvh build_wide_bvh(std::vector<BvhPrimitive> primitives, const BvhBuildOptions& options) {
-    primitives.erase(std::remove_if(primitives.begin(), primitives.end(),
-                                    [](const BvhPrimitive& p) { return p.bounds.is_empty(); }),
-                     primitives.end());
+    drop_empty_boxes(primitives);
     WideBvh bvh;
     if (primitives.empty()) return bvh;
     // A leaf's first primitive must fit a child reference's 31 bits, and its count 16 bits.
@@ -700,11 +703,11 @@ WideBvh collapse_bvh(const Bvh& binary) {
     RAYCAST_CHECK(binary.prim_order.size() <= kWidePayloadMask);
     wide.prim_order = binary.prim_order;
     wide.bounds = binary.nodes[0].bounds;
-    if (binary.nodes[0].is_leaf()) {
+    const BinaryTree tree{binary.nodes.data()};
+    if (!tree.openable(0)) {
         wide.nodes.push_back(root_of_one_leaf(binary.nodes[0]));
         return wide;
     }
-    const BinaryTree tree{binary.nodes.data()};
     Collapser<BinaryTree, LargeVector<WideBvhNode>>(tree, wide.nodes).emit(0);
     return wide;
 }

@@ -22,12 +22,16 @@ constexpr int kWideBvhWidth = 8;
 constexpr uint32_t kWideLeafFlag = 0x80000000u;
 constexpr uint32_t kWidePayloadMask = 0x7fffffffu;
 
-/// 256 bytes (8 children), four cache lines. Children fill slots [0, child_count); the other slots hold empty
-/// boxes (lower +inf, upper -inf) and must be masked off by child_count, never tested.
+/// 256 bytes (8 children), four cache lines. Children fill slots [0, child_count); the other
+/// slots hold empty boxes (lower +inf, upper -inf) that no ray enters. The child references come
+/// first, so that the four lines a box test reads also hold the child it picks (no second,
+/// dependent miss), and each axis's lower and upper bounds are 32 bytes apart, so that a
+/// traversal finds an axis's far bound from its near one with one XOR.
 struct alignas(64) WideBvhNode {
-    float lower[3][kWideBvhWidth];  ///< lower[axis][slot]: the children's boxes, by bound
-    float upper[3][kWideBvhWidth];
     uint32_t child[kWideBvhWidth];  ///< an inner node's index, or kWideLeafFlag | payload
+    /// bounds[axis][0][slot] is child slot's lower bound on the axis, bounds[axis][1][slot] its
+    /// upper one: the children's boxes, one bound of every child side by side.
+    float bounds[3][2][kWideBvhWidth];
     /// A leaf's primitives are prim_order[payload, payload + prim_count) as built; 0 for inner
     /// children and empty slots.
     uint16_t prim_count[kWideBvhWidth];
@@ -44,6 +48,12 @@ struct WideBvh {
 };
 
 inline bool is_wide_leaf(uint32_t child) { return (child & kWideLeafFlag) != 0; }
+
+/// The box of a node's child slot.
+inline Bounds3f child_bounds(const WideBvhNode& node, uint32_t slot) {
+    return {{node.bounds[0][0][slot], node.bounds[1][0][slot], node.bounds[2][0][slot]},
+            {node.bounds[0][1][slot], node.bounds[1][1][slot], node.bounds[2][1][slot]}};
+}
 
 /// Builds the binary SAH tree of build_bvh() (same options, same leaves, same prim_order) and
 /// collapses it as it goes: each subtree built on a thread is collapsed at once and its binary

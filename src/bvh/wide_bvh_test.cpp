@@ -13,34 +13,12 @@
 
 #include "bvh/build_bvh.h"
 #include "bvh/wide_bvh.h"
+#include "trace_test_support.h"
 
 namespace raycast {
 namespace {
 
-Bounds3f box(Vec3f lower, Vec3f upper) { return {lower, upper}; }
-
-std::vector<BvhPrimitive> boxes_in_a_cube(std::mt19937& rng, size_t count, float world, float max_size) {
-    std::uniform_real_distribution<float> u(-1, 1), size_exp(-4, 0);
-    std::vector<BvhPrimitive> prims(count);
-    for (size_t i = 0; i < count; ++i) {
-        const Vec3f c{u(rng) * world, u(rng) * world, u(rng) * world};
-        const float s = max_size * std::pow(10.0f, size_exp(rng));
-        const Vec3f half{s * std::fabs(u(rng)), s * std::fabs(u(rng)), s * std::fabs(u(rng))};
-        prims[i] = {box(c - half, c + half), static_cast<uint32_t>(i)};
-    }
-    return prims;
-}
-
-bool contains(const Bounds3f& outer, const Bounds3f& inner) {
-    for (int a = 0; a < 3; ++a)
-        if (inner.lower[a] < outer.lower[a] || inner.upper[a] > outer.upper[a]) return false;
-    return true;
-}
-
-Bounds3f child_box(const WideBvhNode& node, uint32_t slot) {
-    return {{node.lower[0][slot], node.lower[1][slot], node.lower[2][slot]},
-            {node.upper[0][slot], node.upper[1][slot], node.upper[2][slot]}};
-}
+using namespace test;  // tests/trace_test_support.h
 
 struct LeafRef {
     uint32_t first, count;
@@ -53,13 +31,8 @@ struct LeafRef {
 // whole binary tree stops opening children only when none is left to open).
 std::vector<LeafRef> check_wide_tree(const WideBvh& bvh, const std::vector<BvhPrimitive>& prims, int max_leaf_size,
                                      bool full_nodes) {
-    std::vector<uint32_t> ids;
     Bounds3f all;
-    for (const BvhPrimitive& p : prims)
-        if (!p.bounds.is_empty()) {
-            ids.push_back(p.id);
-            all.grow(p.bounds);
-        }
+    const std::vector<uint32_t> ids = ids_with_boxes(prims, all);
     std::vector<LeafRef> leaves;
     if (ids.empty()) {
         EXPECT_TRUE(bvh.empty());
@@ -92,7 +65,7 @@ std::vector<LeafRef> check_wide_tree(const WideBvh& bvh, const std::vector<BvhPr
         EXPECT_LE(node.child_count, static_cast<uint32_t>(kWideBvhWidth));
         bool all_leaves = true;
         for (uint32_t slot = 0; slot < static_cast<uint32_t>(kWideBvhWidth); ++slot) {
-            const Bounds3f b = child_box(node, slot);
+            const Bounds3f b = child_bounds(node, slot);
             if (slot >= node.child_count) {
                 EXPECT_TRUE(b.is_empty() && node.child[slot] == 0 && node.prim_count[slot] == 0)
                     << "node " << item.node << ": empty slot " << slot << " is not empty";
@@ -135,7 +108,7 @@ std::vector<LeafRef> check_wide_tree(const WideBvh& bvh, const std::vector<BvhPr
 
 // Field by field: the node's padding bytes are not part of it.
 bool same_node(const WideBvhNode& a, const WideBvhNode& b) {
-    return std::memcmp(a.lower, b.lower, sizeof a.lower) == 0 && std::memcmp(a.upper, b.upper, sizeof a.upper) == 0 &&
+    return std::memcmp(a.bounds, b.bounds, sizeof a.bounds) == 0 &&
            std::memcmp(a.child, b.child, sizeof a.child) == 0 &&
            std::memcmp(a.prim_count, b.prim_count, sizeof a.prim_count) == 0 && a.child_count == b.child_count;
 }
@@ -182,7 +155,7 @@ TEST(WideBvh, InvariantsHoldAndTheLeavesAreTheBinaryTreesForManyInputs) {
         options.leaf_test_width = config.test_width;
         for (size_t count : {size_t{2}, size_t{9}, size_t{100}, size_t{5000}}) {
             SCOPED_TRACE("max leaf " + std::to_string(config.max_leaf) + ", " + std::to_string(count) + " boxes");
-            std::vector<BvhPrimitive> prims = boxes_in_a_cube(rng, count, 10, 2);
+            std::vector<BvhPrimitive> prims = random_boxes(rng, count, 10, 2);
             if (count == 100)  // some empty boxes, which stay out of the tree
                 for (size_t i = 0; i < count; i += 7) prims[i].bounds = Bounds3f{};
             if (count == 5000)  // many equal boxes: median splits
@@ -207,7 +180,7 @@ TEST(WideBvh, LargeInputsBuiltInPiecesKeepTheBinaryLeavesAndDoNotDependOnThreads
     // Above 16384 primitives the build splits the top of the tree and builds pieces on threads;
     // each piece is collapsed on its own, then the top.
     std::mt19937 rng(42);
-    std::vector<BvhPrimitive> prims = boxes_in_a_cube(rng, 70000, 50, 2);
+    std::vector<BvhPrimitive> prims = random_boxes(rng, 70000, 50, 2);
     for (size_t i = 0; i < 20000; ++i) prims[i].bounds = prims[i % 7].bounds;
     BvhBuildOptions options;
     options.max_leaf_size = 8;
