@@ -5,6 +5,9 @@
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -12,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <new>
 
@@ -269,16 +273,26 @@ public:
     void build_wide_pieces(const Range& all) {
         root_ = split_top(all, 0);
         wide_pieces_.resize(pieces_.size());
-        std::vector<std::vector<BvhNode>> scratch(static_cast<size_t>(threads_));
+        // Each thread reuses its own room for a piece's binary and wide nodes; a piece keeps an
+        // exact-size copy of its wide nodes, so that no slack of a growing vector (half as much
+        // again) stays resident beside the primitives at the build's peak.
+        struct Scratch {
+            std::vector<BvhNode> binary;
+            std::vector<WideBvhNode> wide;
+        };
+        std::vector<Scratch> scratch(static_cast<size_t>(threads_));
         parallel_for(pieces_.size(), threads_, [&](size_t i, int worker) {
-            std::vector<BvhNode>& nodes = scratch[static_cast<size_t>(worker)];
-            nodes.resize(2 * size_t{pieces_[i].range.size()});
-            NodeSink sink{nodes.data(), 1};
+            Scratch& room = scratch[static_cast<size_t>(worker)];
+            room.binary.resize(2 * size_t{pieces_[i].range.size()});
+            NodeSink sink{room.binary.data(), 1};
             build(pieces_[i].range, sink, 0, pieces_[i].depth);
             WidePiece& piece = wide_pieces_[i];
-            piece.root = nodes[0];
-            const BinaryTree tree{nodes.data()};
-            if (tree.openable(0)) Collapser<BinaryTree, std::vector<WideBvhNode>>(tree, piece.nodes).emit(0);
+            piece.root = room.binary[0];
+            const BinaryTree tree{room.binary.data()};
+            if (!tree.openable(0)) return;
+            room.wide.clear();
+            Collapser<BinaryTree, std::vector<WideBvhNode>>(tree, room.wide).emit(0);
+            piece.nodes.assign(room.wide.begin(), room.wide.end());
         });
     }
 
@@ -629,6 +643,30 @@ private:
     ChildRef root_ = 0;
 };
 
+// The primitives' ids in their order, and the primitives freed. The ids are first packed at the
+// front of the primitives' own buffer (id i goes to bytes [4i, 4i + 4), which only overwrites
+// primitives already read) and the rest of that buffer goes back to the system, so that the id
+// array (4 bytes a primitive) is never allocated beside all the primitives (28 bytes each): at a
+// mesh's peak of memory, the mesh and the finished subtrees are resident too.
+std::vector<uint32_t> take_ids(std::vector<BvhPrimitive>& primitives) {
+    const size_t count = primitives.size();
+    unsigned char* bytes = reinterpret_cast<unsigned char*>(primitives.data());
+    for (size_t i = 0; i < count; ++i) {
+        const uint32_t id = primitives[i].id;
+        std::memcpy(bytes + 4 * i, &id, 4);
+    }
+#if defined(__linux__)
+    const uintptr_t page = 4096;
+    const uintptr_t keep_end = (reinterpret_cast<uintptr_t>(bytes) + 4 * count + page - 1) & ~(page - 1);
+    const uintptr_t end = reinterpret_cast<uintptr_t>(bytes + count * sizeof(BvhPrimitive)) & ~(page - 1);
+    if (end > keep_end) madvise(reinterpret_cast<void*>(keep_end), end - keep_end, MADV_DONTNEED);
+#endif
+    std::vector<uint32_t> ids(count);
+    if (count > 0) std::memcpy(ids.data(), bytes, 4 * count);
+    std::vector<BvhPrimitive>().swap(primitives);
+    return ids;
+}
+
 // Empty boxes can never be hit: those primitives stay out of the tree.
 void drop_empty_boxes(std::vector<BvhPrimitive>& primitives) {
     primitives.erase(std::remove_if(primitives.begin(), primitives.end(),
@@ -686,9 +724,7 @@ WideBvh build_wide_bvh(std::vector<BvhPrimitive> primitives, const BvhBuildOptio
     Builder builder(primitives.data(), options);
     const Range all = builder.make_range(0, static_cast<uint32_t>(primitives.size()));
     builder.build_wide_pieces(all);
-    bvh.prim_order.resize(primitives.size());
-    for (size_t i = 0; i < primitives.size(); ++i) bvh.prim_order[i] = primitives[i].id;
-    std::vector<BvhPrimitive>().swap(primitives);
+    bvh.prim_order = take_ids(primitives);
     bvh.nodes = builder.assemble_wide();
     bvh.bounds = pad_box(all.bounds);
 #ifdef __GLIBC__
