@@ -19,6 +19,18 @@ inline float safe_divisor(float d) {
 
 inline float safe_inverse_scalar(float d) { return 1.0f / safe_divisor(d); }
 
+// How a slab test stays conservative (never misses a box the ray meets): a computed distance
+// fl(fl(b - o)·fl(1/d)) is within three roundings of the true (b - o)/d, a relative error below
+// 2^-22. With a negative t_min, the entry and exit are widened by more than that (|x|·kBoxWiden,
+// as intersect_box does). With t_min >= 0 (every ray a renderer traces) the widening moves into
+// the ray's constants instead, off the node test's critical path: near bounds are multiplied by
+// an inverse 8 ulps (2^-20) smaller in magnitude and far bounds by one 8 ulps larger, which moves
+// a positive entry nearer and a positive exit farther by more than the rounding (a fourth one
+// included, for the scaled inverse) could move them. A negative near distance only gets nearer to
+// 0 but stays negative (the sign of a product is exact), so the entry max(t_min, ...) is what the
+// exact test gives; a negative far distance means the box is behind t_min either way.
+constexpr float kInverseShrink = 1.0f - 8 * 5.96046448e-08f, kInverseGrow = 1.0f + 8 * 5.96046448e-08f;
+
 // bvh.h's cull_distance.
 inline float cull_distance_scalar(float t_best) { return t_best + scalar_abs(t_best) * (1.0f / 1024); }
 

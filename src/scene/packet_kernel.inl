@@ -22,6 +22,11 @@ struct PacketRays {
     VF dx, dy, dz;
     VF ix, iy, iz;  // safe inverses of the direction, for slab tests
     VM live;        // lanes that hold a ray still being traced
+    // For the slab test of lanes that all go the same way along each axis, with t_min >= 0:
+    // the inverses for near and far bounds (kernel_common.inl's kInverseShrink), and the lanes
+    // whose inverse is negative, per axis.
+    VF near_ix, near_iy, near_iz, far_ix, far_iy, far_iz;
+    unsigned negative[3];
 };
 
 // The watertight test's per-ray constants (see make_watertight_ray) for the lanes `lanes`, which
@@ -51,17 +56,28 @@ inline float lane_value(VF v, unsigned lane) {
     return values[lane];
 }
 
+// bvh.h's safe_inverse in every lane (a SIMD division rounds as the scalar one does).
+inline VF safe_inverse_v(VF d) {
+    const VF signed_tiny = select(mask_from_bits(sign_bits(d)), splat(-kTiny), splat(kTiny));
+    return splat(1.0f) / select(vabs(d) < splat(kTiny), signed_tiny, d);
+}
+
 // Fills the inverse directions from the ray components.
 inline void prepare_inverses(PacketRays& r) {
-    float d[3][kLanes], inv[3][kLanes];
-    store(d[0], r.dx);
-    store(d[1], r.dy);
-    store(d[2], r.dz);
-    for (int axis = 0; axis < 3; ++axis)
-        for (int lane = 0; lane < kLanes; ++lane) inv[axis][lane] = safe_inverse_scalar(d[axis][lane]);
-    r.ix = load(inv[0]);
-    r.iy = load(inv[1]);
-    r.iz = load(inv[2]);
+    r.ix = safe_inverse_v(r.dx);
+    r.iy = safe_inverse_v(r.dy);
+    r.iz = safe_inverse_v(r.dz);
+    const VF zero = splat(0.0f);
+    r.negative[0] = bits(r.ix < zero);
+    r.negative[1] = bits(r.iy < zero);
+    r.negative[2] = bits(r.iz < zero);
+    const VF shrink = splat(kInverseShrink), grow = splat(kInverseGrow);
+    r.near_ix = r.ix * shrink;
+    r.near_iy = r.iy * shrink;
+    r.near_iz = r.iz * shrink;
+    r.far_ix = r.ix * grow;
+    r.far_iy = r.iy * grow;
+    r.far_iz = r.iz * grow;
 }
 
 // Rays [0, count) as a packet (structure of arrays); dead lanes repeat lane 0 so that they hold no
@@ -144,9 +160,41 @@ inline VM node_hits(const BvhNode& node, const PacketRays& r, VF t_min, VF t_cul
     return box_hits(b.lower.x, b.lower.y, b.lower.z, b.upper.x, b.upper.y, b.upper.z, r, t_min, t_cull, t_entry);
 }
 
-inline VM child_hits(const WideBvhNode& node, uint32_t slot, const PacketRays& r, VF t_min, VF t_cull, VF& t_entry) {
-    return box_hits(node.bounds[0][0][slot], node.bounds[1][0][slot], node.bounds[2][0][slot], node.bounds[0][1][slot],
-                    node.bounds[1][1][slot], node.bounds[2][1][slot], r, t_min, t_cull, t_entry);
+// Which bound of each axis is near for every live lane (0: lower, 1: upper), when the lanes agree.
+struct SameOctant {
+    int near[3];
+};
+
+// Whether the live lanes all go the same way along each axis (so do coherent rays, nearly always).
+inline bool same_octant(const PacketRays& r, SameOctant& octant) {
+    const unsigned live = bits(r.live);
+    for (int axis = 0; axis < 3; ++axis) {
+        const unsigned negative = r.negative[axis] & live;
+        if (negative != 0 && negative != live) return false;
+        octant.near[axis] = negative != 0 ? 1 : 0;
+    }
+    return true;
+}
+
+// The slab test of a child; with kSameOctant (t_min >= 0 and one octant: see PacketRays), the
+// single-ray kernel's: near and far bounds picked once, no widening left to do.
+template <bool kSameOctant>
+inline VM child_hits(const WideBvhNode& node, uint32_t slot, const PacketRays& r, const SameOctant& octant, VF t_min,
+                     VF t_cull, VF& t_entry) {
+    if (!kSameOctant)
+        return box_hits(node.bounds[0][0][slot], node.bounds[1][0][slot], node.bounds[2][0][slot], node.bounds[0][1][slot],
+                        node.bounds[1][1][slot], node.bounds[2][1][slot], r, t_min, t_cull, t_entry);
+    const int nx = octant.near[0], ny = octant.near[1], nz = octant.near[2];
+    const VF near_x = (splat(node.bounds[0][nx][slot]) - r.ox) * r.near_ix;
+    const VF near_y = (splat(node.bounds[1][ny][slot]) - r.oy) * r.near_iy;
+    const VF near_z = (splat(node.bounds[2][nz][slot]) - r.oz) * r.near_iz;
+    const VF far_x = (splat(node.bounds[0][1 - nx][slot]) - r.ox) * r.far_ix;
+    const VF far_y = (splat(node.bounds[1][1 - ny][slot]) - r.oy) * r.far_iy;
+    const VF far_z = (splat(node.bounds[2][1 - nz][slot]) - r.oz) * r.far_iz;
+    const VF t0 = vmax(t_min, vmax(vmax(near_x, near_y), near_z));
+    const VF t1 = vmin(t_cull, vmin(vmin(far_x, far_y), far_z));
+    t_entry = t0;
+    return (t0 <= t1) & r.live;
 }
 
 // Walks the (binary) instance BVH with the packet; visit_leaf(first, count, lanes) is called for
@@ -202,9 +250,9 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
 // the children some lane enters are visited nearest first (as the first lane that enters any of
 // them sees it), and the others wait on the stack as (node, slot), their box tested again when
 // popped. visit_leaf(payload) returns true to stop; t_cull() and r.live are re-read after it.
-template <typename CullFn, typename LeafFn>
-inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, const VF& t_min, CullFn&& t_cull,
-                                 LeafFn&& visit_leaf) {
+template <bool kSameOctant, typename CullFn, typename LeafFn>
+inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, const SameOctant& octant,
+                                 const VF& t_min, CullFn&& t_cull, LeafFn&& visit_leaf) {
     struct Pending {
         uint32_t node, slot;
     };
@@ -219,7 +267,7 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
             VF t_entry[kWideBvhWidth];
             unsigned slots = 0, lanes = 0;
             for (uint32_t slot = 0; slot < node.child_count; ++slot) {
-                entered[slot] = child_hits(node, slot, r, t_min, cull, t_entry[slot]);
+                entered[slot] = child_hits<kSameOctant>(node, slot, r, octant, t_min, cull, t_entry[slot]);
                 if (!any(entered[slot])) continue;
                 slots |= 1u << slot;
                 lanes |= bits(entered[slot]);
@@ -253,12 +301,24 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
             const Pending next = stack[--stack_size];
             const WideBvhNode& parent = nodes[next.node];
             VF t_entry;
-            if (any(child_hits(parent, next.slot, r, t_min, t_cull(), t_entry))) {
+            if (any(child_hits<kSameOctant>(parent, next.slot, r, octant, t_min, t_cull(), t_entry))) {
                 ref = parent.child[next.slot];
                 break;
             }
         }
     }
+}
+
+// traverse_packet_wide with the fastest slab test the packet allows.
+template <typename CullFn, typename LeafFn>
+inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, float t_min, CullFn&& t_cull,
+                                 LeafFn&& visit_leaf) {
+    SameOctant octant;
+    const VF t_min_v = splat(t_min);
+    if (t_min >= 0 && same_octant(r, octant))
+        traverse_packet_wide<true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+    else
+        traverse_packet_wide<false>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
 }
 
 // Offers each lane in `candidates` the hit (t, u, v) on (object, prim); keeps the closer, with
@@ -364,7 +424,7 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
                                   uint32_t object) {
     ShearedVertices sheared;
     traverse_packet_wide(
-        mesh.nodes, r, s.t_min_v, [&] { return cull_distance_v(s.best_t); },
+        mesh.nodes, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
         [&](uint32_t first_block) {
             for (uint32_t block = first_block;;) {
                 const unsigned char* group = mesh.groups[block].bytes;
@@ -382,9 +442,10 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
 
 // Any hits nearer than t_max of the rays of r.live, which share w's permutation, with one mesh:
 // each blocked ray is marked and leaves r.live.
-inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const MeshView& mesh, VF t_min, VF t_max,
+inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const MeshView& mesh, float t_min, VF t_max,
                                  VF t_cull, bool* blocked) {
     ShearedVertices sheared;
+    const VF t_min_v = splat(t_min);
     traverse_packet_wide(
         mesh.nodes, r, t_min, [&] { return t_cull; },
         [&](uint32_t first_block) {
@@ -392,7 +453,7 @@ inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const
                 const unsigned char* group = mesh.groups[block].bytes;
                 shear_vertices(group, w, sheared);
                 for (uint32_t lane = 0; lane < group[0]; ++lane) {
-                    const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, t_min);
+                    const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, t_min_v);
                     if (!any(h.hit)) continue;
                     const VM now_blocked = h.hit & (h.t < t_max);
                     if (!any(now_blocked)) continue;
@@ -506,7 +567,7 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
                                              : transform_packet(r, view.object_from_world[instance.transform]);
                 for_each_permutation(local, [&](const PacketRays& subset, const WatertightPacket& w) {
                     PacketRays traced = subset;
-                    occluded_mesh_packet(traced, w, mesh, t_min_v, t_max_v, t_cull, blocked);
+                    occluded_mesh_packet(traced, w, mesh, t_min, t_max_v, t_cull, blocked);
                     r.live = andnot(r.live, andnot(subset.live, traced.live));  // those it blocked
                 });
             }

@@ -79,3 +79,8 @@ using VM = LanesM<kLanes>;
 inline VF splat(float x) { return {{x, x, x, x}}; }
 inline VF load(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
 inline VM mask_from_bits(unsigned b) { return {b & ((1u << kLanes) - 1)}; }
+inline unsigned sign_bits(VF a) {
+    unsigned m = 0;
+    for (int i = 0; i < kLanes; ++i) m |= __builtin_signbit(a.v[i]) ? 1u << i : 0u;
+    return m;
+}

@@ -20,18 +20,8 @@ namespace {
 
 // The ray as the box tests use it: origin and inverse direction in every lane, and where each
 // axis's near and far bounds lie in a node (lower bounds are near when the ray goes up the axis).
-//
-// How a slab test stays conservative (never misses a box the ray meets): each computed distance
-// (b - o)·(1/d) is within three roundings of the true one, a relative error below 2^-22. With
-// a negative t_min, the entry and exit are widened by that much (|x|·kBoxWiden, as
-// intersect_box does). With t_min >= 0 (every ray a renderer traces) the widening moves into the
-// ray's constants instead, off the node test's critical path: near bounds are multiplied by an
-// inverse 8 ulps smaller in magnitude and far bounds by one 8 ulps larger, which moves a positive
-// entry nearer and a positive exit farther by more than the rounding could move them. A negative
-// near distance only gets nearer to 0 but stays negative (the sign of a product is exact), so
-// the entry max(t_min, ...) is what the exact test gives; a negative far distance means the box
-// is behind t_min either way.
-constexpr float kInverseShrink = 1.0f - 8 * 5.96046448e-08f, kInverseGrow = 1.0f + 8 * 5.96046448e-08f;
+// With kWidenInverse (t_min >= 0), near and far bounds have their own inverses (see
+// kInverseShrink in kernel_common.inl).
 
 struct BoxTraversal {
     NodeF ox, oy, oz, t_min;
