@@ -482,6 +482,15 @@ inline PacketRays transform_packet(const PacketRays& r, const Mat4& m) {
     return o;
 }
 
+// Whether a packet's live rays go the same way along every axis. Such rays (primary rays, shadow
+// rays towards one light) share most of their way through a BVH; rays that scatter (ambient
+// occlusion, rays from many surfaces) part at once, and each is faster alone, through the
+// single-ray kernel, than in a packet that tests every box for every lane.
+inline bool coherent(const PacketRays& r) {
+    SameOctant octant;
+    return same_octant(r, octant);
+}
+
 // Calls trace(rays, w) for each set of the live rays that share a watertight axis permutation
 // (usually one set: the rays of a packet point the same way), with rays.live narrowed to it.
 template <typename TraceFn>
@@ -520,13 +529,16 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
                 }
                 const MeshView& mesh = view.meshes[instance.shape];
                 if (!mesh.nodes) continue;
-                auto trace_mesh = [&](const PacketRays& subset, const WatertightPacket& w) {
+                const PacketRays local = instance.transform == kNoTransformIndex
+                                             ? r
+                                             : transform_packet(r, view.object_from_world[instance.transform]);
+                if (!coherent(local)) {
+                    intersect_instance_lanes(s, id, lanes);
+                    continue;
+                }
+                for_each_permutation(local, [&](const PacketRays& subset, const WatertightPacket& w) {
                     intersect_mesh_packet(s, subset, w, mesh, id);
-                };
-                if (instance.transform == kNoTransformIndex)
-                    for_each_permutation(r, trace_mesh);
-                else
-                    for_each_permutation(transform_packet(r, view.object_from_world[instance.transform]), trace_mesh);
+                });
             }
             return false;
         });
@@ -565,6 +577,11 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
                 const PacketRays local = instance.transform == kNoTransformIndex
                                              ? r
                                              : transform_packet(r, view.object_from_world[instance.transform]);
+                if (!coherent(local)) {
+                    occluded_lanes(id);
+                    if (!any(r.live)) return true;
+                    continue;
+                }
                 for_each_permutation(local, [&](const PacketRays& subset, const WatertightPacket& w) {
                     PacketRays traced = subset;
                     occluded_mesh_packet(traced, w, mesh, t_min, t_max_v, t_cull, blocked);
