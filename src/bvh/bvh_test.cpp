@@ -294,9 +294,22 @@ void offer(Hit& best, float t, float u, float v, uint32_t object, uint32_t prim)
     if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim};
 }
 
+// A scene, and the triangles of each of its meshes decoded once from their groups (the groups
+// hold the mesh's own corners: see LargeMeshBuiltInParallelMatchesBruteForce), for brute force.
+struct Checked {
+    const Scene& scene;
+    std::vector<std::vector<GroupTriangle>> mesh_triangles;
+
+    explicit Checked(const Scene& s) : scene(s), mesh_triangles(s.meshes.size()) {
+        for (size_t m = 0; m < s.meshes.size(); ++m)
+            for_each_group_triangle(s.meshes[m], [&](const GroupTriangle& tri, uint32_t) { mesh_triangles[m].push_back(tri); });
+    }
+};
+
 // The closest hit by looking at every primitive of every object, with the same primitive tests
 // and object-space rays as the scene, but no BVH.
-Hit brute_force(const Scene& scene, const Ray& world_ray, float t_min) {
+Hit brute_force(const Checked& checked, const Ray& world_ray, float t_min) {
+    const Scene& scene = checked.scene;
     Hit best;
     for (uint32_t id = 0; id < scene.instances.size(); ++id) {
         const Instance& inst = scene.instances[id];
@@ -318,12 +331,9 @@ Hit brute_force(const Scene& scene, const Ray& world_ray, float t_min) {
                 break;
             }
             case ShapeKind::Mesh: {
-                // Every triangle the mesh keeps (its groups hold the mesh's own corners: see
-                // LargeMeshBuiltInParallelMatchesBruteForce), in no particular order.
                 const WatertightRay w = make_watertight_ray(ray);
-                for_each_group_triangle(scene.meshes[inst.shape], [&](const GroupTriangle& tri, uint32_t) {
+                for (const GroupTriangle& tri : checked.mesh_triangles[inst.shape])
                     if (intersect_triangle(w, tri.p0, tri.p1, tri.p2, t_min, h)) offer(best, h.t, h.u, h.v, id, tri.id);
-                });
                 break;
             }
         }
@@ -334,10 +344,11 @@ Hit brute_force(const Scene& scene, const Ray& world_ray, float t_min) {
 // Compares the scene's answer with brute force, field by field; also the any-hit query right at
 // the closest t (strictly below it nothing may be found, just above it something must).
 // Returns false (after reporting a failure) on a mismatch for this ray.
-bool expect_same_as_brute_force(const Scene& scene, const Ray& ray, float t_min, Hit* out = nullptr) {
+bool expect_same_as_brute_force(const Checked& checked, const Ray& ray, float t_min, Hit* out = nullptr) {
+    const Scene& scene = checked.scene;
     Hit fast;
     intersect(scene, ray, t_min, fast);
-    const Hit slow = brute_force(scene, ray, t_min);
+    const Hit slow = brute_force(checked, ray, t_min);
     if (out) *out = fast;
     const bool same = fast.is_hit() == slow.is_hit() &&
                       (!slow.is_hit() || (fast.t == slow.t && fast.object == slow.object && fast.prim == slow.prim &&
@@ -372,6 +383,7 @@ TEST(BvhTraversal, MatchesBruteForceOnRandomTriangleSoups) {
         SCOPED_TRACE("soup of " + std::to_string(count));
         const TriangleMesh mesh = soup(rng, count, 5, 2);
         const Scene scene = scene_of_mesh(mesh);
+        const Checked checked_scene(scene);
         int hits = 0;
         for (int r = 0; r < 3000; ++r) {
             Ray ray;
@@ -385,7 +397,7 @@ TEST(BvhTraversal, MatchesBruteForceOnRandomTriangleSoups) {
             if (r % 50 == 8) ray.direction.y = ray.direction.z = 0;
             const float t_min = r % 5 == 0 ? 0.5f * u01(rng) : (r % 97 == 0 ? -INFINITY : 0.0f);
             Hit hit;
-            if (!expect_same_as_brute_force(scene, ray, t_min, &hit)) return;
+            if (!expect_same_as_brute_force(checked_scene, ray, t_min, &hit)) return;
             hits += hit.is_hit();
         }
         if (count >= 300) {
@@ -402,6 +414,7 @@ TEST(BvhTraversal, EveryRayFromInsideAClosedSphereMeshHits) {
     const Vec3f centre{0.3f, -0.2f, 0.1f};
     const TriangleMesh mesh = sphere_mesh(centre, 2, 24, 48);
     const Scene scene = scene_of_mesh(mesh);
+    const Checked checked_scene(scene);
     for (int r = 0; r < 20000; ++r) {
         Vec3f origin = centre + Vec3f{u(rng), u(rng), u(rng)} * 1.1f;
         if (r % 10 == 0) origin = centre;
@@ -415,7 +428,7 @@ TEST(BvhTraversal, EveryRayFromInsideAClosedSphereMeshHits) {
         if (length(direction) == 0) continue;
         const Ray ray{origin, direction};
         Hit hit;
-        if (!expect_same_as_brute_force(scene, ray, 0, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, ray, 0, &hit)) return;
         ASSERT_TRUE(hit.is_hit()) << describe(ray, 0) << " escaped through the closed mesh";
         // The hit is on the tessellated sphere: between the inscribed radius and 2.
         const float distance = length(ray.at(hit.t) - centre);
@@ -430,6 +443,7 @@ TEST(BvhTraversal, RaysAtTheSharedEdgesAndVerticesOfAGridHitAndMatchBruteForce) 
     const int n = 48;
     const TriangleMesh mesh = grid_mesh(rng, n, 0.1f);
     const Scene scene = scene_of_mesh(mesh);
+    const Checked checked_scene(scene);
     for (int r = 0; r < 10000; ++r) {
         // A vertex or edge point of the height field, seen from above at a steep enough angle.
         const Vec3f target = shared_point(mesh, rng);
@@ -437,7 +451,7 @@ TEST(BvhTraversal, RaysAtTheSharedEdgesAndVerticesOfAGridHitAndMatchBruteForce) 
         const Vec3f origin = target + Vec3f{u(rng) * 3, u(rng) * 3, 2 + 8 * u01(rng)};
         const Ray ray{origin, (target - origin) * (r % 3 == 0 ? 1.0f : 0.25f + 2 * u01(rng))};
         Hit hit;
-        if (!expect_same_as_brute_force(scene, ray, 0, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, ray, 0, &hit)) return;
         ASSERT_TRUE(hit.is_hit()) << describe(ray, 0) << " slipped through the grid";
         EXPECT_NEAR(length(ray.at(hit.t) - target), 0, 1e-3f);
     }
@@ -468,19 +482,21 @@ TEST(BvhTraversal, RaysLyingInABoxFaceAreNotCulled) {
     square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
     square.indices = {0, 1, 2, 0, 2, 3};
     const Scene square_scene = scene_of_mesh(square);
+    const Checked checked_square_scene(square_scene);
     const Ray down_the_edge{{1, 0.5f, 5}, {0, 0, -1}};
-    ASSERT_TRUE(brute_force(square_scene, down_the_edge, 0).is_hit());
-    expect_same_as_brute_force(square_scene, down_the_edge, 0);
-    expect_same_as_brute_force(square_scene, {{0, 0.5f, 5}, {-0.0f, 0, -1}}, 0);  // left edge, −0
+    ASSERT_TRUE(brute_force(checked_square_scene, down_the_edge, 0).is_hit());
+    expect_same_as_brute_force(checked_square_scene, down_the_edge, 0);
+    expect_same_as_brute_force(checked_square_scene, {{0, 0.5f, 5}, {-0.0f, 0, -1}}, 0);  // left edge, −0
 
     // Straight down through every inner vertex and edge midpoint of a height field: every ray
     // hits, and the closest hit (ties: the lower triangle index) must be brute force's.
     std::mt19937 rng(23);
     const int n = 16;
     const Scene grid_scene = scene_of_mesh(grid_mesh(rng, n, 0.1f));
+    const Checked checked_grid_scene(grid_scene);
     for (int j = 1; j < 2 * n; ++j)
         for (int i = 1; i < 2 * n; ++i)
-            if (!expect_same_as_brute_force(grid_scene, {{static_cast<float>(i) / 2, static_cast<float>(j) / 2, 5}, {0, 0, -1}}, 0))
+            if (!expect_same_as_brute_force(checked_grid_scene, {{static_cast<float>(i) / 2, static_cast<float>(j) / 2, 5}, {0, 0, -1}}, 0))
                 return;
 
     // From the centre of a closed sphere mesh to each of its vertices (the poles and the vertices
@@ -488,8 +504,9 @@ TEST(BvhTraversal, RaysLyingInABoxFaceAreNotCulled) {
     const Vec3f centre{0.3f, -0.2f, 0.1f};
     const TriangleMesh ball = sphere_mesh(centre, 2, 24, 48);
     const Scene ball_scene = scene_of_mesh(ball);
+    const Checked checked_ball_scene(ball_scene);
     for (const Vec3f& p : ball.positions)
-        if (!expect_same_as_brute_force(ball_scene, {centre, p - centre}, 0)) return;
+        if (!expect_same_as_brute_force(checked_ball_scene, {centre, p - centre}, 0)) return;
 }
 
 TEST(BvhTraversal, ExactTiesGoToTheLowerTriangleIndex) {
@@ -501,12 +518,13 @@ TEST(BvhTraversal, ExactTiesGoToTheLowerTriangleIndex) {
     const size_t original = mesh.triangle_count();
     for (size_t i = 0; i < original * 3; ++i) mesh.indices.push_back(mesh.indices[i]);
     const Scene scene = scene_of_mesh(mesh);
+    const Checked checked_scene(scene);
     int hits = 0;
     for (int r = 0; r < 3000; ++r) {
         const Vec3f origin{u(rng) * 6, u(rng) * 6, u(rng) * 6};
         const Ray ray{origin, (r % 2 ? shared_point(mesh, rng) : Vec3f{u(rng), u(rng), u(rng)} * 3) - origin};
         Hit hit;
-        if (!expect_same_as_brute_force(scene, ray, 0, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, ray, 0, &hit)) return;
         if (hit.is_hit()) {
             ++hits;
             EXPECT_LT(hit.prim, original) << "a duplicate won the tie: " << describe(hit);
@@ -563,6 +581,7 @@ TEST(SceneIntersect, MatchesBruteForceOverMixedTransformedObjects) {
     copy.vertices[2] = corner(soup_mesh, 5, 2);
     objects.push_back(copy);
     const Scene scene = scene_with(std::move(desc));
+    const Checked checked_scene(scene);
     ASSERT_EQ(scene.instances.size(), 9u);
 
     std::vector<int> hits_per_object(9, 0);
@@ -585,7 +604,7 @@ TEST(SceneIntersect, MatchesBruteForceOverMixedTransformedObjects) {
         }
         const float t_min = r % 7 == 0 ? u01(rng) : 0.0f;
         Hit hit;
-        if (!expect_same_as_brute_force(scene, ray, t_min, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, ray, t_min, &hit)) return;
         if (hit.is_hit()) ++hits_per_object[hit.object];
     }
     // Every object but the shadowed duplicates is seen; ties always go to the first in file order.
@@ -662,6 +681,7 @@ TEST(BvhTraversal, LargeMeshBuiltInParallelMatchesBruteForce) {
     std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
     const TriangleMesh mesh = soup(rng, 40000, 20, 1.5f);
     const Scene scene = scene_of_mesh(mesh, 4);
+    const Checked checked_scene(scene);
     const Scene serial = scene_of_mesh(mesh, 1);
     ASSERT_EQ(scene.meshes.size(), 1u);
     const MeshShape& shape = scene.meshes[0];
@@ -681,7 +701,7 @@ TEST(BvhTraversal, LargeMeshBuiltInParallelMatchesBruteForce) {
         const Vec3f origin{u(rng) * 25, u(rng) * 25, u(rng) * 25};
         const Vec3f direction = r % 2 ? shared_point(mesh, rng) - origin : Vec3f{u(rng), u(rng), u(rng)};
         Hit hit;
-        if (!expect_same_as_brute_force(scene, {origin, direction}, 0, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, {origin, direction}, 0, &hit)) return;
         hits += hit.is_hit();
     }
     EXPECT_GT(hits, 150);

@@ -27,7 +27,8 @@ namespace raycast {
 /// are dropped: every triangle's corners are in its group.
 struct MeshShape {
     TriangleMesh mesh;  ///< only `normals` and `normal_indices` are kept (empty without vn)
-    WideBvh bvh;        ///< leaf payloads: the block in `groups` where the leaf's first group starts
+    WideBvh bvh;        ///< leaf payloads: the block in `groups` where the leaf's first group
+                        ///< starts; prim_order is dropped (each group holds its triangles' ids)
     LargeVector<GroupBlock> groups;  ///< followed by kGroupPaddingBlocks of padding
     Bounds3f bounds;
     size_t triangle_count = 0;  ///< as the file gave them, degenerate ones included
