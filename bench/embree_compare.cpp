@@ -1,15 +1,25 @@
-// raycast_embree_bench: traces the primary rays of a raycast scene with Intel Embree 3, for the
-// comparison in docs/performance.md (bench/run.sh runs it).
+// raycast_embree_bench: traces the rays of a raycast scene with Intel Embree 3 and, with --raycast,
+// the same kinds of rays with raycast's own queries, for docs/performance.md (bench/run.sh runs it).
 //   raycast_embree_bench SCENE [--size WxH] [--threads N] [--repeat N] [--expect-hit-fraction F]
+//                              [--ao-rays N] [--raycast]
 // The scene file is read with raycast's own parser and OBJ loader, and every pixel's ray comes from
 // raycast's make_camera/camera_ray, so Embree traces exactly the rays raycast traces. Embree builds
 // with RTC_BUILD_QUALITY_HIGH on --threads threads; the rays are then traced on --threads
-// std::threads that claim 16x16 tiles, twice: rtcIntersect1 one ray at a time, and rtcIntersect16
-// over 4x4 pixel blocks. Only closest hits are computed (no shading). Each figure is the best of
-// --repeat runs. Prints one line of key=value pairs; exits 3 when the hit fraction of
-// rtcIntersect1 differs from --expect-hit-fraction (raycast's, at the 4 digits raycast prints).
-// Embree's two paths need not agree to the ray: rtcIntersect16 may differ by a ray or two on
-// silhouette edges, so packet16_hits is reported but not checked.
+// std::threads that claim 16x16 tiles:
+//   - primary rays, closest hit: rtcIntersect1 one ray at a time, rtcIntersect16 over 4x4 blocks;
+//   - ambient-occlusion rays, any hit: from each primary hit, --ao-rays (16) cosine-distributed
+//     directions about the geometric normal (facing the camera), from the hit point moved off the
+//     surface as raycast moves shadow-ray origins, up to a tenth of the scene box's diagonal;
+//     rtcOccluded1 one at a time, rtcOccluded16 the rays of one hit together. The "all rays"
+//     figure counts primary and AO rays over the time of both passes.
+// Nothing is shaded. Each figure is the best of --repeat runs. With --raycast, Embree's scene is
+// released, the scene is loaded again and built by build_scene, and the same passes run through
+// raycast's intersect/occluded (one ray at a time) and PacketTracer (packets), plus shadow rays
+// towards the scene's first light (one ray at a time, and each primary packet's together).
+// Prints key=value pairs (one line); exits 3 when the hit fraction of rtcIntersect1 differs from
+// --expect-hit-fraction (raycast's, at the 4 digits raycast prints). Embree's two paths need not
+// agree to the ray: rtcIntersect16 may differ by a ray or two on silhouette edges, so
+// packet16_hits is reported but not checked; raycast's paths must agree exactly (exit 4 if not).
 #include <embree3/rtcore.h>
 
 #if defined(__SSE2__)
@@ -31,7 +41,11 @@
 #include "base/error.h"
 #include "base/timer.h"
 #include "math/mat4.h"
+#include "render/sampler.h"
+#include "render/shade.h"
+#include "scene/build_scene.h"
 #include "scene/camera.h"
+#include "scene/intersect_packet.h"
 #include "sceneio/load_scene.h"
 
 namespace {
@@ -45,6 +59,8 @@ struct Options {
     int width = 0, height = 0;
     int threads = 2;
     int repeat = 3;
+    int ao_rays = 16;
+    bool trace_raycast = false;
     bool has_expected = false;
     double expected_hit_fraction = 0;
 };
@@ -52,7 +68,7 @@ struct Options {
 [[noreturn]] void usage(const char* message) {
     std::fprintf(stderr,
                  "raycast_embree_bench: %s\nusage: raycast_embree_bench SCENE [--size WxH] [--threads N] "
-                 "[--repeat N] [--expect-hit-fraction F]\n",
+                 "[--repeat N] [--expect-hit-fraction F] [--ao-rays N] [--raycast]\n",
                  message);
     std::exit(2);
 }
@@ -72,6 +88,11 @@ Options parse_options(int argc, char** argv) {
         } else if (arg == "--repeat" && has_value) {
             options.repeat = std::atoi(argv[++i]);
             if (options.repeat < 1) usage("--repeat needs a positive number");
+        } else if (arg == "--ao-rays" && has_value) {
+            options.ao_rays = std::atoi(argv[++i]);
+            if (options.ao_rays < 1 || options.ao_rays > 64) usage("--ao-rays needs a number from 1 to 64");
+        } else if (arg == "--raycast") {
+            options.trace_raycast = true;
         } else if (arg == "--expect-hit-fraction" && has_value) {
             options.has_expected = true;
             options.expected_hit_fraction = std::atof(argv[++i]);
@@ -160,94 +181,29 @@ void for_each_tile(int width, int height, int threads, TileFn&& tile) {
 
 struct TraceResult {
     double ms = 0;
-    uint64_t hits = 0;
+    uint64_t hits = 0;  // primary rays that hit
+    uint64_t rays = 0;  // every ray traced: primary, and any ambient-occlusion or shadow rays
 };
 
-// Per-thread hit counters, each on its own cache line.
+// Per-thread totals, each on its own cache line.
 struct alignas(64) Counter {
-    uint64_t hits = 0;
+    uint64_t hits = 0, rays = 0;
 };
 
-TraceResult trace_single(RTCScene scene, const Camera& camera, int threads) {
+// Times one pass over the image: tile(x0, y0, x1, y1, counter) for every tile, on `threads`.
+template <typename TileFn>
+TraceResult timed_pass(const Camera& camera, int threads, TileFn&& tile) {
     std::vector<Counter> counters(static_cast<size_t>(threads));
     Timer timer;
     for_each_tile(camera.width, camera.height, threads, [&](int x0, int y0, int x1, int y1, int worker) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        uint64_t hits = 0;
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) {
-                const Ray ray = camera_ray(camera, static_cast<float>(x) + camera.pixel_offset,
-                                           static_cast<float>(y) + camera.pixel_offset);
-                RTCRayHit rh;
-                rh.ray.org_x = ray.origin.x;
-                rh.ray.org_y = ray.origin.y;
-                rh.ray.org_z = ray.origin.z;
-                rh.ray.dir_x = ray.direction.x;
-                rh.ray.dir_y = ray.direction.y;
-                rh.ray.dir_z = ray.direction.z;
-                rh.ray.tnear = std::max(camera.t_min, 0.0f);
-                rh.ray.tfar = INFINITY;
-                rh.ray.time = 0;
-                rh.ray.mask = 0xffffffffu;
-                rh.ray.id = 0;
-                rh.ray.flags = 0;
-                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                rtcIntersect1(scene, &context, &rh);
-                hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
-            }
-        counters[static_cast<size_t>(worker)].hits += hits;
+        tile(x0, y0, x1, y1, counters[static_cast<size_t>(worker)]);
     });
     TraceResult result;
     result.ms = timer.elapsed_ms();
-    for (const Counter& c : counters) result.hits += c.hits;
-    return result;
-}
-
-TraceResult trace_packets16(RTCScene scene, const Camera& camera, int threads) {
-    std::vector<Counter> counters(static_cast<size_t>(threads));
-    Timer timer;
-    for_each_tile(camera.width, camera.height, threads, [&](int x0, int y0, int x1, int y1, int worker) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        alignas(64) RTCRayHit16 rh;
-        alignas(64) int valid[16];
-        uint64_t hits = 0;
-        for (int by = y0; by < y1; by += 4)
-            for (int bx = x0; bx < x1; bx += 4) {
-                for (int lane = 0; lane < 16; ++lane) {
-                    const int x = bx + lane % 4, y = by + lane / 4;
-                    const bool inside = x < x1 && y < y1;
-                    valid[lane] = inside ? -1 : 0;
-                    const Ray ray = camera_ray(camera, static_cast<float>(inside ? x : bx) + camera.pixel_offset,
-                                               static_cast<float>(inside ? y : by) + camera.pixel_offset);
-                    rh.ray.org_x[lane] = ray.origin.x;
-                    rh.ray.org_y[lane] = ray.origin.y;
-                    rh.ray.org_z[lane] = ray.origin.z;
-                    rh.ray.dir_x[lane] = ray.direction.x;
-                    rh.ray.dir_y[lane] = ray.direction.y;
-                    rh.ray.dir_z[lane] = ray.direction.z;
-                    rh.ray.tnear[lane] = std::max(camera.t_min, 0.0f);
-                    rh.ray.tfar[lane] = INFINITY;
-                    rh.ray.time[lane] = 0;
-                    rh.ray.mask[lane] = 0xffffffffu;
-                    rh.ray.id[lane] = 0;
-                    rh.ray.flags[lane] = 0;
-                    rh.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
-                    rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
-                }
-                rtcIntersect16(valid, scene, &context, &rh);
-                for (int lane = 0; lane < 16; ++lane)
-                    hits += valid[lane] && rh.hit.geomID[lane] != RTC_INVALID_GEOMETRY_ID ? 1 : 0;
-            }
-        counters[static_cast<size_t>(worker)].hits += hits;
-    });
-    TraceResult result;
-    result.ms = timer.elapsed_ms();
-    for (const Counter& c : counters) result.hits += c.hits;
+    for (const Counter& c : counters) {
+        result.hits += c.hits;
+        result.rays += c.rays;
+    }
     return result;
 }
 
@@ -256,11 +212,284 @@ TraceResult best_of(int repeat, TraceFn&& trace) {
     TraceResult best = trace();
     for (int i = 1; i < repeat; ++i) {
         const TraceResult next = trace();
-        if (next.hits != best.hits) throw std::runtime_error("two runs of the same rays found different hits");
+        if (next.hits != best.hits || next.rays != best.rays)
+            throw std::runtime_error("two runs of the same rays found different hits");
         best.ms = std::min(best.ms, next.ms);
     }
     return best;
 }
+
+double mrays_per_s(const TraceResult& r) { return static_cast<double>(r.rays) / (r.ms * 1000); }
+
+Ray pixel_ray(const Camera& camera, int x, int y) {
+    return camera_ray(camera, static_cast<float>(x) + camera.pixel_offset, static_cast<float>(y) + camera.pixel_offset);
+}
+
+// Packets of neighbouring pixels, as raycast's renderer forms them: 4x4 for 16 lanes, 2x4 for 8,
+// 2x2 for 4. Calls block(pixel_x, pixel_y, count) for every block of the tile.
+template <typename BlockFn>
+void for_each_block(int x0, int y0, int x1, int y1, int lanes, BlockFn&& block) {
+    const int block_w = lanes >= 16 ? 4 : (lanes >= 4 ? 2 : 1);
+    const int block_h = lanes / block_w;
+    const int blocks_x = (x1 - x0 + block_w - 1) / block_w, blocks_y = (y1 - y0 + block_h - 1) / block_h;
+    int xs[16], ys[16];
+    for (int b = 0; b < blocks_x * blocks_y; ++b) {
+        const int bx = x0 + (b % blocks_x) * block_w, by = y0 + (b / blocks_x) * block_h;
+        int count = 0;
+        for (int k = 0; k < block_w * block_h; ++k) {  // row by row within the block
+            const int x = bx + k % block_w, y = by + k / block_w;
+            if (x >= x1 || y >= y1) continue;
+            xs[count] = x;
+            ys[count] = y;
+            ++count;
+        }
+        block(xs, ys, count);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Ambient-occlusion rays: the same distribution for both tracers
+
+// Ray i of pixel `pixel`'s hit at `position` with unit normal `normal` (facing the viewer), as
+// raycast's --mode ao draws them (render/integrators.cpp): a cosine-distributed direction from
+// sample_cosine_hemisphere with the numbers of raycast's Sampler, starting at the hit moved off
+// the surface by offset_ray_origin. `travel_scale` is ray_travel_scale of the camera ray.
+Ray ao_ray(Vec3f position, Vec3f normal, float travel_scale, uint32_t pixel, int i) {
+    Sampler sampler(pixel, i);
+    const Vec3f direction = sample_cosine_hemisphere(normal, sampler.next_2d());
+    return {offset_ray_origin(position, normal, direction, travel_scale), direction};
+}
+
+// A unit normal turned to face where the ray came from.
+Vec3f facing(Vec3f normal, const Ray& ray) {
+    const Vec3f n = normalize(normal);
+    return dot(n, ray.direction) > 0 ? -n : n;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Embree
+
+void init_ray(RTCRay& ray, const Ray& r, float t_near, float t_far) {
+    ray.org_x = r.origin.x;
+    ray.org_y = r.origin.y;
+    ray.org_z = r.origin.z;
+    ray.dir_x = r.direction.x;
+    ray.dir_y = r.direction.y;
+    ray.dir_z = r.direction.z;
+    ray.tnear = t_near;
+    ray.tfar = t_far;
+    ray.time = 0;
+    ray.mask = 0xffffffffu;
+    ray.id = 0;
+    ray.flags = 0;
+}
+
+void init_ray16(RTCRay16& rays, int lane, const Ray& r, float t_near, float t_far) {
+    rays.org_x[lane] = r.origin.x;
+    rays.org_y[lane] = r.origin.y;
+    rays.org_z[lane] = r.origin.z;
+    rays.dir_x[lane] = r.direction.x;
+    rays.dir_y[lane] = r.direction.y;
+    rays.dir_z[lane] = r.direction.z;
+    rays.tnear[lane] = t_near;
+    rays.tfar[lane] = t_far;
+    rays.time[lane] = 0;
+    rays.mask[lane] = 0xffffffffu;
+    rays.id[lane] = 0;
+    rays.flags[lane] = 0;
+}
+
+// Primary rays are traced as coherent, AO rays as incoherent, as Embree advises.
+struct EmbreeContexts {
+    RTCIntersectContext coherent, incoherent;
+
+    EmbreeContexts() {
+        rtcInitIntersectContext(&coherent);
+        coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        rtcInitIntersectContext(&incoherent);
+    }
+};
+
+struct EmbreePasses {
+    RTCScene scene;
+    const Camera& camera;
+    int threads;
+    int ao_rays;
+    float ao_length;
+
+    // One ray at a time: primary rays, and the AO rays of each hit when `with_ao`.
+    TraceResult single(bool with_ao) const {
+        return timed_pass(camera, threads, [&](int x0, int y0, int x1, int y1, Counter& counter) {
+            EmbreeContexts contexts;
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) {
+                    const Ray ray = pixel_ray(camera, x, y);
+                    RTCRayHit rh;
+                    init_ray(rh.ray, ray, std::max(camera.t_min, 0.0f), INFINITY);
+                    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                    rtcIntersect1(scene, &contexts.coherent, &rh);
+                    ++counter.rays;
+                    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+                    ++counter.hits;
+                    if (!with_ao) continue;
+                    const Vec3f position = ray.origin + ray.direction * rh.ray.tfar;
+                    const Vec3f normal = facing({rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z}, ray);
+                    const float travel = ray_travel_scale(ray.origin, ray.direction, rh.ray.tfar);
+                    const uint32_t pixel = static_cast<uint32_t>(y * camera.width + x);
+                    for (int i = 0; i < ao_rays; ++i) {
+                        RTCRay shadow;
+                        init_ray(shadow, ao_ray(position, normal, travel, pixel, i), 0, ao_length);
+                        rtcOccluded1(scene, &contexts.incoherent, &shadow);
+                    }
+                    counter.rays += static_cast<uint64_t>(ao_rays);
+                }
+        });
+    }
+
+    // 4x4 blocks with rtcIntersect16, and the AO rays of each hit with rtcOccluded16.
+    TraceResult packets(bool with_ao) const {
+        return timed_pass(camera, threads, [&](int x0, int y0, int x1, int y1, Counter& counter) {
+            EmbreeContexts contexts;
+            alignas(64) RTCRayHit16 rh;
+            alignas(64) RTCRay16 shadow;
+            alignas(64) int valid[16];
+            Ray rays[16];
+            for_each_block(x0, y0, x1, y1, 16, [&](const int* xs, const int* ys, int count) {
+                for (int lane = 0; lane < 16; ++lane) {
+                    valid[lane] = lane < count ? -1 : 0;
+                    rays[lane] = pixel_ray(camera, xs[lane < count ? lane : 0], ys[lane < count ? lane : 0]);
+                    init_ray16(rh.ray, lane, rays[lane], std::max(camera.t_min, 0.0f), INFINITY);
+                    rh.hit.geomID[lane] = RTC_INVALID_GEOMETRY_ID;
+                    rh.hit.instID[0][lane] = RTC_INVALID_GEOMETRY_ID;
+                }
+                rtcIntersect16(valid, scene, &contexts.coherent, &rh);
+                counter.rays += static_cast<uint64_t>(count);
+                for (int lane = 0; lane < count; ++lane) {
+                    if (rh.hit.geomID[lane] == RTC_INVALID_GEOMETRY_ID) continue;
+                    ++counter.hits;
+                    if (!with_ao) continue;
+                    const Ray& ray = rays[lane];
+                    const Vec3f position = ray.origin + ray.direction * rh.ray.tfar[lane];
+                    const Vec3f normal = facing({rh.hit.Ng_x[lane], rh.hit.Ng_y[lane], rh.hit.Ng_z[lane]}, ray);
+                    const float travel = ray_travel_scale(ray.origin, ray.direction, rh.ray.tfar[lane]);
+                    const uint32_t pixel = static_cast<uint32_t>(ys[lane] * camera.width + xs[lane]);
+                    for (int first = 0; first < ao_rays; first += 16) {
+                        alignas(64) int ao_valid[16];
+                        for (int i = 0; i < 16; ++i) {
+                            const bool live = first + i < ao_rays;
+                            ao_valid[i] = live ? -1 : 0;
+                            init_ray16(shadow, i, ao_ray(position, normal, travel, pixel, live ? first + i : first), 0, ao_length);
+                        }
+                        rtcOccluded16(ao_valid, scene, &contexts.incoherent, &shadow);
+                    }
+                    counter.rays += static_cast<uint64_t>(ao_rays);
+                }
+            });
+        });
+    }
+};
+
+// ---------------------------------------------------------------------------------------------
+// raycast
+
+struct RaycastPasses {
+    const Scene& scene;
+    const PacketTracer& tracer;
+    const Camera& camera;
+    int threads;
+    int ao_rays;
+    float ao_length;
+
+    // What the extra rays of a primary hit are: none, AO rays, or a shadow ray to the first light.
+    enum class Extra { None, Ao, Shadow };
+
+    // One ray at a time through intersect() and occluded().
+    TraceResult single(Extra extra) const {
+        return timed_pass(camera, threads, [&](int x0, int y0, int x1, int y1, Counter& counter) {
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) {
+                    const Ray ray = pixel_ray(camera, x, y);
+                    Hit hit;
+                    intersect(scene, ray, camera.t_min, hit);
+                    ++counter.rays;
+                    if (!hit.is_hit()) continue;
+                    ++counter.hits;
+                    if (extra == Extra::None) continue;
+                    const SurfacePoint surface = surface_at(scene, ray, hit);
+                    const Vec3f normal = facing(surface.normal, ray);
+                    const float travel = ray_travel_scale(ray.origin, ray.direction, hit.t);
+                    if (extra == Extra::Shadow) {
+                        const Illumination light = illuminate(scene.lights[0], surface.position);
+                        occluded(scene, {offset_ray_origin(surface.position, normal, light.to_light, travel), light.to_light}, 0,
+                                 light.distance);
+                        ++counter.rays;
+                        continue;
+                    }
+                    const uint32_t pixel = static_cast<uint32_t>(y * camera.width + x);
+                    for (int i = 0; i < ao_rays; ++i) occluded(scene, ao_ray(surface.position, normal, travel, pixel, i), 0, ao_length);
+                    counter.rays += static_cast<uint64_t>(ao_rays);
+                }
+        });
+    }
+
+    // Packets of neighbouring pixels through PacketTracer: primary rays, then the AO rays of each
+    // hit (lanes() at a time), or the shadow rays of the packet's hits together.
+    TraceResult packets(Extra extra) const {
+        const int lanes = tracer.lanes();
+        return timed_pass(camera, threads, [&](int x0, int y0, int x1, int y1, Counter& counter) {
+            Ray rays[kMaxPacketLanes], extra_rays[kMaxPacketLanes];
+            Hit hits[kMaxPacketLanes];
+            float t_max[kMaxPacketLanes];
+            bool blocked[kMaxPacketLanes];
+            for_each_block(x0, y0, x1, y1, lanes, [&](const int* xs, const int* ys, int count) {
+                for (int k = 0; k < count; ++k) {
+                    rays[k] = pixel_ray(camera, xs[k], ys[k]);
+                    hits[k] = Hit{};
+                }
+                tracer.intersect(rays, count, camera.t_min, hits);
+                counter.rays += static_cast<uint64_t>(count);
+                int shadows = 0;
+                for (int k = 0; k < count; ++k) {
+                    if (!hits[k].is_hit()) continue;
+                    ++counter.hits;
+                    if (extra == Extra::None) continue;
+                    const SurfacePoint surface = surface_at(scene, rays[k], hits[k]);
+                    const Vec3f normal = facing(surface.normal, rays[k]);
+                    const float travel = ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t);
+                    if (extra == Extra::Shadow) {
+                        const Illumination light = illuminate(scene.lights[0], surface.position);
+                        extra_rays[shadows] = {offset_ray_origin(surface.position, normal, light.to_light, travel), light.to_light};
+                        t_max[shadows++] = light.distance;
+                        continue;
+                    }
+                    const uint32_t pixel = static_cast<uint32_t>(ys[k] * camera.width + xs[k]);
+                    for (int first = 0; first < ao_rays; first += lanes) {
+                        const int n = std::min(lanes, ao_rays - first);
+                        for (int i = 0; i < n; ++i) {
+                            extra_rays[i] = ao_ray(surface.position, normal, travel, pixel, first + i);
+                            t_max[i] = ao_length;
+                        }
+                        tracer.occluded(extra_rays, n, 0, t_max, blocked);
+                    }
+                    counter.rays += static_cast<uint64_t>(ao_rays);
+                }
+                if (shadows > 0) {
+                    tracer.occluded(extra_rays, shadows, 0, t_max, blocked);
+                    counter.rays += static_cast<uint64_t>(shadows);
+                }
+            });
+        });
+    }
+};
+
+std::string mrays_field(const char* name, const TraceResult& r) {
+    char buffer[96];
+    std::snprintf(buffer, sizeof buffer, " %s_mrays_per_s=%.3f", name, mrays_per_s(r));
+    return buffer;
+}
+
+float box_diagonal(const Bounds3f& b) { return length(b.upper - b.lower); }
 
 int run(const Options& options) {
     set_flush_to_zero();
@@ -308,10 +537,17 @@ int run(const Options& options) {
     }
     rtcCommitScene(scene);
     const double build_ms = build_timer.elapsed_ms();
+    RTCBounds embree_bounds;
+    rtcGetSceneBounds(scene, &embree_bounds);
+    const Bounds3f scene_box{{embree_bounds.lower_x, embree_bounds.lower_y, embree_bounds.lower_z},
+                             {embree_bounds.upper_x, embree_bounds.upper_y, embree_bounds.upper_z}};
 
-    const int threads = options.threads;
-    const TraceResult single = best_of(options.repeat, [&] { return trace_single(scene, camera, threads); });
-    const TraceResult packets = best_of(options.repeat, [&] { return trace_packets16(scene, camera, threads); });
+    const int threads = options.threads, repeat = options.repeat;
+    const EmbreePasses embree{scene, camera, threads, options.ao_rays, 0.1f * box_diagonal(scene_box)};
+    const TraceResult single = best_of(repeat, [&] { return embree.single(false); });
+    const TraceResult packets = best_of(repeat, [&] { return embree.packets(false); });
+    const TraceResult ao_single = best_of(repeat, [&] { return embree.single(true); });
+    const TraceResult ao_packets = best_of(repeat, [&] { return embree.packets(true); });
     rtcReleaseScene(scene);
     rtcReleaseDevice(device);
 
@@ -321,18 +557,52 @@ int run(const Options& options) {
     const bool match = !options.has_expected || std::fabs(hit_fraction - options.expected_hit_fraction) < 0.00006;
     std::printf("embree-bench embree=%s triangles=%zu threads=%d size=%dx%d load_ms=%.3f build_ms=%.3f "
                 "single_ms=%.3f single_mrays_per_s=%.3f packet16_ms=%.3f packet16_mrays_per_s=%.3f rays=%.0f "
-                "hits=%llu packet16_hits=%llu hit_fraction=%.4f",
+                "hits=%llu packet16_hits=%llu hit_fraction=%.4f ao_rays_per_hit=%d ao_length=%g",
                 RTC_VERSION_STRING, triangle_count, threads, width, height, load_ms, build_ms, single.ms,
-                rays / (single.ms * 1000), packets.ms, rays / (packets.ms * 1000), rays,
+                mrays_per_s(single), packets.ms, mrays_per_s(packets), rays,
                 static_cast<unsigned long long>(single.hits), static_cast<unsigned long long>(packets.hits),
-                hit_fraction);
+                hit_fraction, options.ao_rays, static_cast<double>(embree.ao_length));
+    std::printf("%s%s", mrays_field("ao_single", ao_single).c_str(), mrays_field("ao_packet16", ao_packets).c_str());
     if (options.has_expected)
         std::printf(" expected_hit_fraction=%.4f hit_match=%s", options.expected_hit_fraction, match ? "yes" : "no");
+
+    bool raycast_agrees = true;
+    if (options.trace_raycast) {
+        // raycast's turn, after Embree's memory is gone: the same file, loaded and built again.
+        SceneBuildOptions build_options;
+        build_options.width = width;
+        build_options.height = height;
+        build_options.threads = threads;
+        const Scene ours = build_scene(load_scene_file(options.scene_path, load_options), build_options);
+        const PacketTracer tracer(ours, best_packet_isa());
+        const float ao_length =
+            ours.instance_bvh.empty() ? 0.0f : 0.1f * box_diagonal(ours.instance_bvh.nodes[0].bounds);
+        const RaycastPasses passes{ours, tracer, ours.camera, threads, options.ao_rays, ao_length};
+        using Extra = RaycastPasses::Extra;
+        const TraceResult r_single = best_of(repeat, [&] { return passes.single(Extra::None); });
+        const TraceResult r_packets = best_of(repeat, [&] { return passes.packets(Extra::None); });
+        const TraceResult r_ao_single = best_of(repeat, [&] { return passes.single(Extra::Ao); });
+        const TraceResult r_ao_packets = best_of(repeat, [&] { return passes.packets(Extra::Ao); });
+        std::printf(" raycast_packets=%s raycast_hits=%llu%s%s%s%s", packet_isa_name(tracer.isa()),
+                    static_cast<unsigned long long>(r_single.hits), mrays_field("raycast_single", r_single).c_str(),
+                    mrays_field("raycast_packet", r_packets).c_str(), mrays_field("raycast_ao_single", r_ao_single).c_str(),
+                    mrays_field("raycast_ao_packet", r_ao_packets).c_str());
+        raycast_agrees = r_packets.hits == r_single.hits && r_ao_single.hits == r_single.hits &&
+                         r_ao_packets.hits == r_single.hits;
+        if (!ours.lights.empty()) {
+            const TraceResult r_shadow_single = best_of(repeat, [&] { return passes.single(Extra::Shadow); });
+            const TraceResult r_shadow_packets = best_of(repeat, [&] { return passes.packets(Extra::Shadow); });
+            std::printf("%s%s", mrays_field("raycast_shadow_single", r_shadow_single).c_str(),
+                        mrays_field("raycast_shadow_packet", r_shadow_packets).c_str());
+            raycast_agrees = raycast_agrees && r_shadow_single.rays == r_shadow_packets.rays;
+        }
+    }
     std::printf("\n");
     if (!match)
         std::fprintf(stderr, "raycast_embree_bench: hit fraction %.6f differs from raycast's %.4f\n", hit_fraction,
                      options.expected_hit_fraction);
-    return match ? 0 : 3;
+    if (!raycast_agrees) std::fprintf(stderr, "raycast_embree_bench: raycast's single rays and packets disagree\n");
+    return !raycast_agrees ? 4 : (match ? 0 : 3);
 }
 
 }  // namespace

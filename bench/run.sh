@@ -1,24 +1,33 @@
 #!/usr/bin/env bash
 # The performance benchmark of docs/performance.md, rerunnable on any machine:
-#   bash bench/run.sh            # bumpy spheres of 1k, 100k, 1M and 5M triangles, then the course scenes
-#   bash bench/run.sh --quick    # 1k and 100k only
+#   bash bench/run.sh                      # bumpy spheres of 1k, 100k, 1M and 5M triangles, then the course scenes
+#   bash bench/run.sh --quick              # 1k and 100k only
+#   bash bench/run.sh --baseline OLD/raycast   # also time another raycast binary in the same run
 # Builds Release in build-bench/, generates the meshes once (cached in build-bench/meshes/), renders
-# each at 1024x1024 on 2 threads with --stats, runs raycast_embree_bench and raycast_tinyobj_bench on
-# the same meshes when they were built (libembree-dev, libtinyobjloader-dev), and prints Markdown
-# tables, also written to build-bench/results.md. Run it on a quiet machine: every figure is a
-# wall-clock time.
+# each at 1024x1024 on 2 threads with --stats (primary rays with and without packets, --spp 16,
+# --shadows with a directional and a point light, and --mode ao when the build has it), runs
+# raycast_embree_bench (Embree's rays, then the same kinds of rays through raycast's own queries)
+# and raycast_tinyobj_bench on the same meshes when they were built (libembree-dev,
+# libtinyobjloader-dev), and prints Markdown tables, also written to build-bench/results.md. Run it
+# on a quiet machine: every figure is a wall-clock time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 
 quick=0
-for arg in "$@"; do
-    case "$arg" in
+baseline=""
+while [ $# -gt 0 ]; do
+    case "$1" in
         --quick) quick=1 ;;
-        -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-        *) echo "bench/run.sh: unknown argument '$arg' (use --quick)" >&2; exit 2 ;;
+        --baseline)
+            [ $# -ge 2 ] || { echo "bench/run.sh: --baseline needs a raycast binary" >&2; exit 2; }
+            baseline=$(cd "$(dirname "$2")" && pwd)/$(basename "$2"); shift ;;
+        -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        *) echo "bench/run.sh: unknown argument '$1' (use --quick or --baseline BINARY)" >&2; exit 2 ;;
     esac
+    shift
 done
+[ -z "$baseline" ] || [ -x "$baseline" ] || { echo "bench/run.sh: $baseline is not an executable" >&2; exit 2; }
 
 build=build-bench
 threads=2
@@ -95,8 +104,19 @@ fov=30
 distance=$(awk -v f="$fov" 'BEGIN { pi = atan2(0, -1); k = sqrt(0.4 * 4 / pi) * sin(f * pi / 360) / cos(f * pi / 360);
     a = atan2(k, 1); printf "%.4f", 1 / sin(a) }')
 
-write_scene() {  # write_scene NAME: build-bench/NAME.txt frames meshes/NAME.obj
-    cat >"$build/$1.txt" <<EOF
+directional_light='    DirectionalLight {
+        direction -0.5 -0.6 -1
+        color 0.9 0.9 0.9
+    }'
+point_light='    PointLight {
+        position 2 3 4
+        color 0.6 0.6 0.6
+    }'
+# write_scene NAME FILE COUNT LIGHT...: FILE frames meshes/NAME.obj, lit by the COUNT lights given
+write_scene() {
+    local name=$1 file=$2 count=$3
+    shift 3
+    cat >"$file" <<EOF
 # Written by bench/run.sh: a bumpy sphere (radius about 1) filling about 40% of the frame.
 PerspectiveCamera {
     center 0 0 $distance
@@ -107,11 +127,8 @@ PerspectiveCamera {
     height 1024
 }
 Lights {
-    numLights 1
-    DirectionalLight {
-        direction -0.5 -0.6 -1
-        color 0.9 0.9 0.9
-    }
+    numLights $count
+$(printf '%s\n' "$@")
 }
 Background {
     color 0.1 0.1 0.15
@@ -129,7 +146,7 @@ Group {
     numObjects 1
     MaterialIndex 0
     TriangleMesh {
-        obj_file meshes/$1.obj
+        obj_file meshes/$name.obj
     }
 }
 EOF
@@ -166,68 +183,104 @@ version=$("$raycast" --version)
 load_before=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)
 
 # --- Bumpy spheres ----------------------------------------------------------------------------
+# --mode ao comes with the renderer's ambient-occlusion mode (issue #14); until the binary has it,
+# its columns read n/a. Its rays= is whatever the renderer counts (primary and AO rays).
+has_ao=0
+"$raycast" --help 2>&1 | grep -- '--mode' | grep -qw ao && has_ao=1
+
+# best_render SCENE OUT KEY -- OPTIONS...: the best of $repeat renders; sets best_line (the --stats
+# line of the fastest), best_render_ms, best_wall_ms, best_load_ms, best_build_ms and peak_rss_kib.
+best_render() {
+    local scene=$1 out=$2 binary=$3
+    shift 4
+    best_line="" best_render_ms="" best_wall_ms="" best_load_ms="" best_build_ms="" peak_rss_kib=""
+    for run in $(seq "$repeat"); do
+        timed "$build" "$binary" "$scene" "$out" --stats --threads "$threads" --size "$size" --quiet "$@"
+        local ms
+        ms=$(field "$run_out" render_ms)
+        if [ -z "$best_render_ms" ] || awk -v a="$ms" -v b="$best_render_ms" 'BEGIN { exit !(a + 0 < b + 0) }'; then
+            best_render_ms=$ms
+            best_line=$run_out
+        fi
+        best_wall_ms=$(min "$best_wall_ms" "$run_wall_ms")
+        best_load_ms=$(min "$best_load_ms" "$(field "$run_out" load_ms)")
+        best_build_ms=$(min "$best_build_ms" "$(field "$run_out" build_ms)")
+        [ -z "$run_rss_kib" ] || peak_rss_kib=$(max "$peak_rss_kib" "$run_rss_kib")
+    done
+}
+mrays() { fmt %.2f "$(calc "$1 / ($2 * 1000)")"; }  # mrays RAYS MS
+
 declare -A result
 embree_version="not built"
 for i in "${!names[@]}"; do
     name=${names[$i]}
     make_mesh "$name" "${counts[$i]}"
-    write_scene "$name"
+    write_scene "$name" "$build/$name.txt" 1 "$directional_light"
+    write_scene "$name" "$build/${name}_lights.txt" 2 "$directional_light" "$point_light"
     scene=$name.txt
-    log "$name: raycast, $repeat runs with packets and $repeat without"
-    load="" build_ms="" render="" wall="" rss="" render_single="" line=""
-    for run in $(seq "$repeat"); do
-        timed "$build" "$raycast" "$scene" "out/$name.bmp" --stats --threads "$threads" --size "$size" --quiet
-        line=$run_out
-        load=$(min "$load" "$(field "$line" load_ms)")
-        build_ms=$(min "$build_ms" "$(field "$line" build_ms)")
-        render=$(min "$render" "$(field "$line" render_ms)")
-        wall=$(min "$wall" "$run_wall_ms")
-        [ -z "$run_rss_kib" ] || rss=$(max "$rss" "$run_rss_kib")
-    done
+    log "$name: raycast, $repeat runs of each: packets, --no-packets, --spp 16, --shadows$([ "$has_ao" = 1 ] && echo ", --mode ao")"
+    best_render "$scene" "out/$name.bmp" "$raycast" --
+    line=$best_line
     rays=$(field "$line" rays)
     triangles=$(field "$line" triangles)
     hit_fraction=$(field "$line" hit_fraction)
-    traversal=$(field "$line" traversal)
-    for run in $(seq "$repeat"); do
-        timed "$build" "$raycast" "$scene" "out/${name}_single.bmp" --stats --threads "$threads" --size "$size" --quiet --no-packets
-        render_single=$(min "$render_single" "$(field "$run_out" render_ms)")
-        single_hits=$(field "$run_out" hit_fraction)
-        [ "$single_hits" = "$hit_fraction" ] || log "$name: hit fraction $single_hits with --no-packets, $hit_fraction with packets"
-    done
     result[$name,triangles]=$triangles
-    result[$name,load]=$(fmt %.1f "$load")
-    result[$name,build]=$(fmt %.1f "$build_ms")
-    result[$name,render]=$(fmt %.1f "$render")
-    result[$name,mrays]=$(fmt %.2f "$(calc "$rays / ($render * 1000)")")
-    result[$name,mrays_single]=$(fmt %.2f "$(calc "$rays / ($render_single * 1000)")")
+    result[$name,load]=$(fmt %.1f "$best_load_ms")
+    result[$name,build]=$(fmt %.1f "$best_build_ms")
+    result[$name,render]=$(fmt %.1f "$best_render_ms")
+    result[$name,mrays]=$(mrays "$rays" "$best_render_ms")
     result[$name,hit]=$hit_fraction
-    result[$name,wall]=$(fmt %.2f "$(calc "$wall / 1000")")
-    result[$name,traversal]=$traversal
-    if [ -n "$rss" ]; then
-        result[$name,rss]=$(fmt %.1f "$(calc "$rss / 1024")")
-        result[$name,bpt]=$(fmt %.0f "$(calc "$rss * 1024 / $triangles")")
-    else
-        result[$name,rss]=n/a
-        result[$name,bpt]=n/a
+    result[$name,wall]=$(fmt %.2f "$(calc "$best_wall_ms / 1000")")
+    result[$name,traversal]=$(field "$line" traversal)
+    if [ -n "$peak_rss_kib" ]; then
+        result[$name,rss]=$(fmt %.1f "$(calc "$peak_rss_kib / 1024")")
+        result[$name,bpt]=$(fmt %.1f "$(calc "$peak_rss_kib * 1024 / $triangles")")
+    fi
+    best_render "$scene" "out/${name}_single.bmp" "$raycast" -- --no-packets
+    [ "$(field "$best_line" hit_fraction)" = "$hit_fraction" ] ||
+        log "$name: hit fraction $(field "$best_line" hit_fraction) with --no-packets, $hit_fraction with packets"
+    cmp -s "$build/out/$name.bmp" "$build/out/${name}_single.bmp" || log "$name: the --no-packets image differs!"
+    result[$name,mrays_single]=$(mrays "$rays" "$best_render_ms")
+    best_render "$scene" "out/${name}_spp16.bmp" "$raycast" -- --spp 16
+    result[$name,mrays_spp16]=$(mrays "$(field "$best_line" rays)" "$best_render_ms")
+    # Shadows: each hit sends one ray to each of the two lights.
+    best_render "${name}_lights.txt" "out/${name}_shadows.bmp" "$raycast" -- --shadows
+    result[$name,mrays_shadows]=$(mrays "$(calc "$rays * (1 + 2 * $hit_fraction)")" "$best_render_ms")
+    if [ "$has_ao" = 1 ]; then
+        best_render "$scene" "out/${name}_ao.bmp" "$raycast" -- --mode ao
+        result[$name,mrays_ao]=$(mrays "$(field "$best_line" rays)" "$best_render_ms")
+    fi
+    if [ -n "$baseline" ]; then
+        log "$name: baseline raycast, $repeat runs with packets and $repeat without"
+        best_render "$scene" "out/${name}_baseline.bmp" "$baseline" --
+        result[$name,b_load]=$(fmt %.1f "$best_load_ms")
+        result[$name,b_build]=$(fmt %.1f "$best_build_ms")
+        result[$name,b_mrays]=$(mrays "$rays" "$best_render_ms")
+        result[$name,b_wall]=$(fmt %.2f "$(calc "$best_wall_ms / 1000")")
+        [ -z "$peak_rss_kib" ] || result[$name,b_bpt]=$(fmt %.1f "$(calc "$peak_rss_kib * 1024 / $triangles")")
+        cmp -s "$build/out/$name.bmp" "$build/out/${name}_baseline.bmp" || log "$name: the baseline's image differs"
+        best_render "$scene" "out/${name}_baseline_single.bmp" "$baseline" -- --no-packets
+        result[$name,b_mrays_single]=$(mrays "$rays" "$best_render_ms")
     fi
 
     if [ -n "$embree_bench" ]; then
-        log "$name: Embree"
+        log "$name: Embree, then the same kinds of rays through raycast's queries"
         status=0
         timed "$build" "$embree_bench" "$scene" --size "$size" --threads "$threads" --repeat "$repeat" \
-            --expect-hit-fraction "$hit_fraction" || status=$?
+            --expect-hit-fraction "$hit_fraction" --raycast || status=$?
         if [ "$status" = 0 ] || [ "$status" = 3 ]; then
             embree_version=$(field "$run_out" embree)
             result[$name,e_build]=$(fmt %.1f "$(field "$run_out" build_ms)")
-            result[$name,e_single]=$(fmt %.2f "$(field "$run_out" single_mrays_per_s)")
-            result[$name,e_packet]=$(fmt %.2f "$(field "$run_out" packet16_mrays_per_s)")
+            for key in single packet16 ao_single ao_packet16 raycast_single raycast_packet raycast_ao_single \
+                raycast_ao_packet raycast_shadow_single raycast_shadow_packet; do
+                value=$(field "$run_out" "${key}_mrays_per_s")
+                [ -z "$value" ] || result[$name,e_$key]=$(fmt %.2f "$value")
+            done
             result[$name,e_hit]=$(field "$run_out" hit_fraction)
             result[$name,e_match]=$(field "$run_out" hit_match)
-            if [ -n "$run_rss_kib" ]; then
-                result[$name,e_bpt]=$(fmt %.0f "$(calc "$run_rss_kib * 1024 / $triangles")")
-            else
-                result[$name,e_bpt]=n/a
-            fi
+            result[$name,e_packets]=$(field "$run_out" raycast_packets)
+            # Embree's phase comes first and needs about twice raycast's memory: the peak is Embree's.
+            [ -z "$run_rss_kib" ] || result[$name,e_bpt]=$(fmt %.0f "$(calc "$run_rss_kib * 1024 / $triangles")")
         fi
     fi
     if [ -n "$tinyobj_bench" ]; then
@@ -249,35 +302,64 @@ else
     course_dir=$root
     course_label="the project's own test scenes (testcases/; ../shared/course is absent)"
 fi
+# course_times BASE: the best of $course_repeat runs of one scene, the baseline's runs (if any)
+# taken in turn with raycast's so that both see the same machine; sets c_ok, c_wall, c_load,
+# c_build, c_render, c_line, and b_ok, b_wall for the baseline.
+course_repeat=10
+course_times() {
+    c_ok=1 c_wall="" c_load="" c_build="" c_render="" b_ok=1 b_wall=""
+    for run in $(seq "$course_repeat"); do
+        if [ -n "$baseline" ] && [ "$b_ok" = 1 ]; then
+            if timed "$course_dir" "$baseline" "testcases/$1.txt" "$root/$build/out/course_$1_baseline.bmp" --threads "$threads" --quiet; then
+                b_wall=$(min "$b_wall" "$run_wall_ms")
+            else
+                b_ok=0
+            fi
+        fi
+        if ! timed "$course_dir" "$raycast" "testcases/$1.txt" "$root/$build/out/course_$1.bmp" --stats --threads "$threads" --quiet; then
+            c_ok=0
+            return
+        fi
+        c_line=$run_out
+        c_wall=$(min "$c_wall" "$run_wall_ms")
+        c_load=$(min "$c_load" "$(field "$run_out" load_ms)")
+        c_build=$(min "$c_build" "$(field "$run_out" build_ms)")
+        c_render=$(min "$c_render" "$(field "$run_out" render_ms)")
+    done
+}
 course_rows=()
+course_total=0
+course_baseline_total=0
 for scene in "$course_dir"/testcases/scene*.txt; do
     [ -f "$scene" ] || continue
     base=$(basename "$scene" .txt)
     log "course scene $base"
-    wall="" load="" build_ms="" render="" ok=1
-    for run in $(seq "$repeat"); do
-        if ! timed "$course_dir" "$raycast" "testcases/$base.txt" "$root/$build/out/course_$base.bmp" \
-            --stats --threads "$threads" --quiet; then
-            ok=0; break
+    course_times "$base"
+    baseline_cell=""
+    if [ -n "$baseline" ]; then
+        if [ "$b_ok" = 1 ]; then
+            baseline_cell=" $(fmt %.1f "$b_wall") |"
+            course_baseline_total=$(calc "$course_baseline_total + $b_wall")
+        else
+            baseline_cell=" failed |"
         fi
-        wall=$(min "$wall" "$run_wall_ms")
-        load=$(min "$load" "$(field "$run_out" load_ms)")
-        build_ms=$(min "$build_ms" "$(field "$run_out" build_ms)")
-        render=$(min "$render" "$(field "$run_out" render_ms)")
-    done
-    if [ "$ok" = 1 ]; then
-        course_rows+=("| $base | $(field "$run_out" rays) | $(field "$run_out" triangles) | $(fmt %.2f "$load") | $(fmt %.2f "$build_ms") | $(fmt %.2f "$render") | $(fmt %.1f "$wall") |")
+    fi
+    if [ "$c_ok" = 1 ]; then
+        course_total=$(calc "$course_total + $c_wall")
+        course_rows+=("| $base | $(field "$c_line" rays) | $(field "$c_line" triangles) | $(fmt %.2f "$c_load") | $(fmt %.2f "$c_build") | $(fmt %.2f "$c_render") | $(fmt %.1f "$c_wall") |$baseline_cell")
     else
-        course_rows+=("| $base | failed | | | | | |")
+        course_rows+=("| $base | failed | | | | | |$baseline_cell")
     fi
 done
 load_after=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)
 
 # --- Report -----------------------------------------------------------------------------------
 get() { echo "${result[$1]:-n/a}"; }
+# verdict A OP B: A >= B or A <= B (A < B for "<")
 verdict() { awk -v a="$1" -v b="$3" -v op="$2" 'BEGIN {
     if (a == "n/a" || b == "n/a" || a == "" || b == "") { print "not measured"; exit }
-    ok = (op == ">=") ? (a + 0 >= b + 0) : (a + 0 < b + 0); print ok ? "met" : "NOT MET" }' </dev/null; }
+    ok = (op == ">=") ? (a + 0 >= b + 0) : (op == "<=") ? (a + 0 <= b + 0) : (a + 0 < b + 0); print ok ? "met" : "NOT MET" }' </dev/null; }
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "n/a" || b == "n/a" || a == "" || b == "" || b + 0 == 0) print "n/a"; else printf "%.2f", a / b }' </dev/null; }
 {
     echo "## Results"
     echo
@@ -285,8 +367,9 @@ verdict() { awk -v a="$1" -v b="$3" -v op="$2" 'BEGIN {
     echo "- Machine: $(nproc) hardware threads, $cpu; $(uname -sr)"
     echo "- Compiler: $compiler; Release build; commit $commit"
     echo "- $version; Embree $embree_version"
+    [ -z "$baseline" ] || echo "- Baseline (same run): $baseline ($("$baseline" --version))"
     echo "- Load average (1, 5, 15 min) before: $load_before; after: $load_after"
-    echo "- Every render: $size, $threads threads; times are the best of $repeat runs"
+    echo "- Every render: $size, $threads threads; times are the best of $repeat runs (course scenes: of $course_repeat, taken in turn with the baseline's)"
     echo
     echo "### raycast on bumpy spheres"
     echo
@@ -297,31 +380,87 @@ verdict() { awk -v a="$1" -v b="$3" -v op="$2" 'BEGIN {
     done
     echo
     echo "Packet traversal: $(get "${names[0]},traversal")."
+    if [ -n "$baseline" ]; then
+        echo
+        echo "### The baseline binary, same run"
+        echo
+        echo "| triangles | load ms | build ms | Mrays/s packets | Mrays/s single | end-to-end s | bytes/triangle |"
+        echo "|---:|---:|---:|---:|---:|---:|---:|"
+        for name in "${names[@]}"; do
+            echo "| $(get "$name,triangles") | $(get "$name,b_load") | $(get "$name,b_build") | $(get "$name,b_mrays") | $(get "$name,b_mrays_single") | $(get "$name,b_wall") | $(get "$name,b_bpt") |"
+        done
+    fi
+    echo
+    echo "### Rendering modes (raycast, shaded, all rays counted)"
+    echo
+    echo "| triangles | primary Mrays/s | --spp 16 Mrays/s | ratio | --shadows (2 lights) Mrays/s | ratio | --mode ao Mrays/s |"
+    echo "|---:|---:|---:|---:|---:|---:|---:|"
+    for name in "${names[@]}"; do
+        echo "| $(get "$name,triangles") | $(get "$name,mrays") | $(get "$name,mrays_spp16") | $(ratio "$(get "$name,mrays_spp16")" "$(get "$name,mrays")") | $(get "$name,mrays_shadows") | $(ratio "$(get "$name,mrays_shadows")" "$(get "$name,mrays")") | $(get "$name,mrays_ao") |"
+    done
     echo
     echo "### Against Embree and tinyobjloader (same meshes)"
     echo
-    echo "| triangles | Embree build ms | Embree Mrays/s 1-ray | Embree Mrays/s 16-packet | Embree hit fraction | same hits | Embree bytes/triangle | tinyobjloader ms | raycast OBJ ms (1 thread) | raycast OBJ ms ($threads threads) | OBJ speed-up |"
-    echo "|---:|---:|---:|---:|---:|:---:|---:|---:|---:|---:|---:|"
+    echo "| triangles | Embree build ms | Embree Mrays/s 1-ray | Embree Mrays/s 16-packet | Embree AO Mrays/s 1-ray | Embree AO Mrays/s 16-packet | Embree hit fraction | same hits | Embree bytes/triangle | tinyobjloader ms | raycast OBJ ms (1 thread) | raycast OBJ ms ($threads threads) | OBJ speed-up |"
+    echo "|---:|---:|---:|---:|---:|---:|---:|:---:|---:|---:|---:|---:|---:|"
     for name in "${names[@]}"; do
-        echo "| $(get "$name,triangles") | $(get "$name,e_build") | $(get "$name,e_single") | $(get "$name,e_packet") | $(get "$name,e_hit") | $(get "$name,e_match") | $(get "$name,e_bpt") | $(get "$name,t_tiny") | $(get "$name,t_ours1") | $(get "$name,t_ours") | $(get "$name,t_speedup") |"
+        echo "| $(get "$name,triangles") | $(get "$name,e_build") | $(get "$name,e_single") | $(get "$name,e_packet16") | $(get "$name,e_ao_single") | $(get "$name,e_ao_packet16") | $(get "$name,e_hit") | $(get "$name,e_match") | $(get "$name,e_bpt") | $(get "$name,t_tiny") | $(get "$name,t_ours1") | $(get "$name,t_ours") | $(get "$name,t_speedup") |"
     done
     echo
-    echo "### Targets (issue: speed benchmarked against Embree)"
+    echo "### The same kinds of rays, tracing only (raycast_embree_bench --raycast)"
+    echo
+    echo "No shading and no image on either side. AO: every primary ray, then 16 AO rays per hit, all rays counted."
+    echo
+    echo "| triangles | primary 1-ray: raycast / Embree | primary packets: raycast / Embree 16 | AO 1-ray: raycast / Embree | AO packets: raycast / Embree 16 | shadow rays (1 light): raycast 1-ray / packets |"
+    echo "|---:|---:|---:|---:|---:|---:|"
+    for name in "${names[@]}"; do
+        echo "| $(get "$name,triangles") | $(get "$name,e_raycast_single") / $(get "$name,e_single") | $(get "$name,e_raycast_packet") / $(get "$name,e_packet16") | $(get "$name,e_raycast_ao_single") / $(get "$name,e_ao_single") | $(get "$name,e_raycast_ao_packet") / $(get "$name,e_ao_packet16") | $(get "$name,e_raycast_shadow_single") / $(get "$name,e_raycast_shadow_packet") |"
+    done
+    echo
+    echo "raycast's packets: $(get "${names[0]},e_packets")."
+    echo
+    echo "### Targets"
+    echo
+    echo "Issue #14 (every kind of ray), then the earlier issue's targets."
     echo
     echo "| target | measured | goal | verdict |"
     echo "|---|---:|---:|---|"
+    for name in "${names[@]}"; do
+        echo "| $(get "$name,triangles") triangles: --no-packets render (shaded), Mrays/s, vs Embree rtcIntersect1 | $(get "$name,mrays_single") | $(get "$name,e_single") | $(verdict "$(get "$name,mrays_single")" ">=" "$(get "$name,e_single")") |"
+    done
+    for name in bumpy_1m bumpy_5m; do
+        echo "| $(get "$name,triangles") triangles: --mode ao (all rays), Mrays/s, vs Embree primary + rtcOccluded1 | $(get "$name,mrays_ao") | $(get "$name,e_ao_single") | $(verdict "$(get "$name,mrays_ao")" ">=" "$(get "$name,e_ao_single")") |"
+    done
+    for name in "${names[@]}"; do
+        spp_goal=$(awk -v m="$(get "$name,mrays")" 'BEGIN { if (m == "n/a") print "n/a"; else printf "%.2f", 0.8 * m }' </dev/null)
+        echo "| $(get "$name,triangles") triangles: --spp 16, Mrays/s, vs 80% of primary | $(get "$name,mrays_spp16") | $spp_goal | $(verdict "$(get "$name,mrays_spp16")" ">=" "$spp_goal") |"
+        echo "| $(get "$name,triangles") triangles: --shadows (directional + point light), Mrays/s, vs 80% of primary | $(get "$name,mrays_shadows") | $spp_goal | $(verdict "$(get "$name,mrays_shadows")" ">=" "$spp_goal") |"
+    done
+    echo "| 1M triangles: primary packets (shaded), Mrays/s, vs Embree rtcIntersect16 | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_packet16) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_packet16)") |"
+    echo "| 5M triangles: peak memory, bytes/triangle | $(get bumpy_5m,bpt) | 64 | $(verdict "$(get bumpy_5m,bpt)" "<=" 64) |"
+    if [ -n "$baseline" ]; then
+        for name in "${names[@]}"; do
+            echo "| $(get "$name,triangles") triangles: build ms, vs the baseline's | $(get "$name,build") | $(get "$name,b_build") | $(verdict "$(get "$name,build")" "<=" "$(get "$name,b_build")") |"
+            echo "| $(get "$name,triangles") triangles: load ms, vs the baseline's | $(get "$name,load") | $(get "$name,b_load") | $(verdict "$(get "$name,load")" "<=" "$(get "$name,b_load")") |"
+        done
+        echo "| course scenes: end to end, sum of the best of $course_repeat, ms, vs the baseline's | $(fmt %.1f "$course_total") | $(fmt %.1f "$course_baseline_total") | $(verdict "$course_total" "<=" "$course_baseline_total") |"
+    fi
     echo "| 1M triangles: primary rays, Mrays/s (raycast packets, shaded, vs Embree rtcIntersect1) | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_single) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_single)") |"
     echo "| 1M triangles: BVH build, ms | $(get bumpy_1m,build) | 1000 | $(verdict "$(get bumpy_1m,build)" "<" 1000) |"
     echo "| 5M triangles: end to end, s | $(get bumpy_5m,wall) | 10 | $(verdict "$(get bumpy_5m,wall)" "<" 10) |"
     echo "| 1M triangles: peak memory, bytes/triangle | $(get bumpy_1m,bpt) | 100 | $(verdict "$(get bumpy_1m,bpt)" "<" 100) |"
-    echo "| 5M triangles: peak memory, bytes/triangle | $(get bumpy_5m,bpt) | 100 | $(verdict "$(get bumpy_5m,bpt)" "<" 100) |"
     echo "| 1M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_1m,t_speedup) | 2 | $(verdict "$(get bumpy_1m,t_speedup)" ">=" 2) |"
     echo "| 5M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_5m,t_speedup) | 2 | $(verdict "$(get bumpy_5m,t_speedup)" ">=" 2) |"
     echo
     echo "### End to end: $course_label"
     echo
-    echo "| scene | rays | triangles | load ms | build ms | render ms | end-to-end ms |"
-    echo "|---|---:|---:|---:|---:|---:|---:|"
+    if [ -n "$baseline" ]; then
+        echo "| scene | rays | triangles | load ms | build ms | render ms | end-to-end ms | baseline end-to-end ms |"
+        echo "|---|---:|---:|---:|---:|---:|---:|---:|"
+    else
+        echo "| scene | rays | triangles | load ms | build ms | render ms | end-to-end ms |"
+        echo "|---|---:|---:|---:|---:|---:|---:|"
+    fi
     for row in "${course_rows[@]}"; do echo "$row"; done
 } >"$tmp/results.md"
 cp "$tmp/results.md" "$build/results.md"

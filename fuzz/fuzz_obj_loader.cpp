@@ -7,11 +7,12 @@
 //    one thread in chunks of 16..79 bytes (about 48 chunks over 4 KiB), and the three results
 //    must be identical;
 //  - a parsed mesh refers only to positions and normals it has;
-//  - the mesh BVH (build_bvh.h) is a tree over every triangle with an area exactly once (one with
-//    none is never hit, so it stays out: geometry/triangle.h), whose boxes hold
-//    their children and triangles, with leaves of at most max_leaf_size (4) triangles and at most
-//    kMaxBvhDepth levels (the traversal stack's size); leaf_triangles follow prim_order; and for
-//    16384 triangles or more, where subtrees are built on threads, two threads build the same tree.
+//  - the mesh's wide BVH (wide_bvh.h) is a tree whose boxes hold their children, at most
+//    kMaxBvhDepth levels deep (the traversal stack's size), whose leaves are runs of triangle
+//    groups (triangle_groups.h) within their limits, holding every triangle with an area exactly
+//    once with its own corners, inside the leaf's box (one with none is never hit, so it stays
+//    out: geometry/triangle.h); and for 16384 triangles or more, where subtrees are built
+//    on threads, two threads build the same tree and groups.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -23,7 +24,9 @@
 
 #include "base/error.h"
 #include "bvh/bvh.h"
+#include "bvh/wide_bvh.h"
 #include "geometry/triangle.h"
+#include "geometry/triangle_groups.h"
 #include "scene/build_scene.h"
 #include "sceneio/load_obj.h"
 
@@ -110,67 +113,98 @@ Bounds3f triangle_bounds(const TriangleMesh& mesh, uint32_t triangle) {
     return b;
 }
 
+// Checks a leaf's run of groups against the mesh: limits, corners, ids seen once, boxes.
+void check_leaf(const MeshShape& shape, const TriangleMesh& mesh, uint32_t first_block, const Bounds3f& box,
+                std::vector<uint8_t>& seen) {
+    const size_t end = shape.groups.size() - kGroupPaddingBlocks;
+    for (size_t block = first_block;;) {
+        if (block >= end) finding("a leaf's groups run past the group array");
+        const GroupBlock* group = &shape.groups[block];
+        const uint32_t k = group_triangle_count(group), v = group_vertex_count(group);
+        if (k < 1 || k > static_cast<uint32_t>(kGroupMaxTriangles)) finding("a group of the wrong size");
+        if (v < 1 || v > static_cast<uint32_t>(kGroupMaxVertices)) finding("a group with the wrong vertex count");
+        if (block + group_layout::group_blocks(k, v) > end) finding("a group runs past the group array");
+        const unsigned char* corners = group->bytes + group_layout::group_corners_offset();  // runs past bytes[16]
+        for (uint32_t c = 0; c < 3 * k; ++c)
+            if (corners[c] >= v) finding("a corner past the group's vertices");
+        for (uint32_t lane = 0; lane < k; ++lane) {
+            const GroupTriangle tri = group_triangle(group, lane);
+            if (tri.id >= seen.size()) finding("a triangle id out of range");
+            if (seen[tri.id]++) finding("a triangle in two groups");
+            if (tri.p0 != mesh.positions[mesh.indices[3 * size_t{tri.id}]] ||
+                tri.p1 != mesh.positions[mesh.indices[3 * size_t{tri.id} + 1]] ||
+                tri.p2 != mesh.positions[mesh.indices[3 * size_t{tri.id} + 2]])
+                finding("a group's corners are not the mesh's");
+            if (!contains(box, triangle_bounds(mesh, tri.id))) finding("a triangle sticks out of its leaf's box");
+        }
+        if (group_ends_leaf(group)) return;
+        block += group_layout::group_blocks(k, v);
+    }
+}
+
 // Walks the tree from the root; returns the deepest level reached.
-int check_node(const MeshShape& shape, uint32_t index, int depth, std::vector<uint8_t>& node_seen,
-               std::vector<uint8_t>& slot_seen) {
-    const Bvh& bvh = shape.bvh;
+int check_node(const MeshShape& shape, const TriangleMesh& mesh, uint32_t index, const Bounds3f& box, int depth,
+               std::vector<uint8_t>& node_seen, std::vector<uint8_t>& seen) {
+    const WideBvh& bvh = shape.bvh;
     if (index >= bvh.nodes.size()) finding("BVH child index past the nodes");
     if (node_seen[index]++) finding("BVH node reached twice");
     if (depth > kMaxBvhDepth) finding("BVH deeper than kMaxBvhDepth");
-    const BvhNode& node = bvh.nodes[index];
-    if (node.is_leaf()) {
-        if (node.count > 4) finding("BVH leaf with more than max_leaf_size triangles", std::to_string(node.count));
-        if (size_t{node.first} + node.count > bvh.prim_order.size()) finding("BVH leaf past prim_order");
-        for (uint32_t slot = node.first; slot < node.first + node.count; ++slot) {
-            if (slot_seen[slot]++) finding("prim_order slot in two leaves");
-            if (!contains(node.bounds, triangle_bounds(shape.mesh, bvh.prim_order[slot])))
-                finding("a triangle sticks out of its leaf's box");
+    const WideBvhNode& node = bvh.nodes[index];
+    if (node.child_count < 1 || node.child_count > static_cast<uint32_t>(kWideBvhWidth)) finding("a node's child count");
+    int deepest = depth;
+    for (uint32_t slot = 0; slot < static_cast<uint32_t>(kWideBvhWidth); ++slot) {
+        const Bounds3f child = child_bounds(node, slot);
+        if (slot >= node.child_count) {
+            if (!child.is_empty()) finding("an empty slot with a box");
+            continue;
         }
-        return depth;
+        if (!contains(box, child)) finding("a child box sticks out of its parent's");
+        if (is_wide_leaf(node.child[slot])) {
+            check_leaf(shape, mesh, node.child[slot] & kWidePayloadMask, child, seen);
+        } else {
+            const int level = check_node(shape, mesh, node.child[slot], child, depth + 1, node_seen, seen);
+            deepest = level > deepest ? level : deepest;
+        }
     }
-    if (size_t{node.first} + 1 >= bvh.nodes.size()) finding("BVH children past the nodes");
-    for (uint32_t child = node.first; child < node.first + 2; ++child)
-        if (!contains(node.bounds, bvh.nodes[child].bounds)) finding("a child box sticks out of its parent's");
-    const int left = check_node(shape, node.first, depth + 1, node_seen, slot_seen);
-    const int right = check_node(shape, node.first + 1, depth + 1, node_seen, slot_seen);
-    return left > right ? left : right;
+    return deepest;
 }
 
-void check_shape(const MeshShape& shape, size_t triangles) {
-    const Bvh& bvh = shape.bvh;
+void check_shape(const MeshShape& shape, const TriangleMesh& mesh) {
+    const size_t triangles = mesh.triangle_count();
+    const WideBvh& bvh = shape.bvh;
     // Positions are finite (the parser refuses out-of-range numbers), so only a triangle with no
     // area has an empty box.
     std::vector<uint8_t> has_area(triangles, 0);
     size_t with_area = 0;
     for (size_t i = 0; i < triangles; ++i) {
-        const uint32_t* corner = &shape.mesh.indices[3 * i];
-        has_area[i] = !is_degenerate_triangle(shape.mesh.positions[corner[0]], shape.mesh.positions[corner[1]],
-                                              shape.mesh.positions[corner[2]]);
+        const uint32_t* corner = &mesh.indices[3 * i];
+        has_area[i] = !is_degenerate_triangle(mesh.positions[corner[0]], mesh.positions[corner[1]], mesh.positions[corner[2]]);
         with_area += has_area[i];
     }
-    if (bvh.prim_order.size() != with_area) finding("prim_order does not hold every triangle with an area");
     if (bvh.empty() != (with_area == 0)) finding("the BVH is empty but there are triangles, or the other way round");
-    std::vector<uint8_t> seen(triangles, 0);
-    for (uint32_t id : bvh.prim_order) {
-        if (id >= triangles) finding("prim_order id out of range");
-        if (!has_area[id]) finding("a triangle with no area in prim_order");
-        if (seen[id]++) finding("triangle twice in prim_order");
-    }
-    if (shape.leaf_triangles.size() != with_area) finding("leaf_triangles of the wrong size");
-    for (size_t i = 0; i < with_area; ++i) {
-        const uint32_t* corner = &shape.mesh.indices[3 * size_t{bvh.prim_order[i]}];
-        const LeafTriangle& t = shape.leaf_triangles[i];
-        if (t.p0 != shape.mesh.positions[corner[0]] || t.p1 != shape.mesh.positions[corner[1]] ||
-            t.p2 != shape.mesh.positions[corner[2]])
-            finding("leaf_triangles do not follow prim_order");
-    }
+    if (shape.triangle_count != triangles) finding("triangle_count is not the mesh's");
+    if (!shape.mesh.positions.empty() || !shape.mesh.indices.empty()) finding("the mesh keeps its positions");
     if (bvh.empty()) return;
-    std::vector<uint8_t> node_seen(bvh.nodes.size(), 0), slot_seen(bvh.prim_order.size(), 0);
-    check_node(shape, 0, 1, node_seen, slot_seen);
+    std::vector<uint8_t> node_seen(bvh.nodes.size(), 0), seen(triangles, 0);
+    check_node(shape, mesh, 0, bvh.bounds, 1, node_seen, seen);
     for (uint8_t s : node_seen)
         if (!s) finding("BVH node not reachable from the root");
-    for (uint8_t s : slot_seen)
-        if (!s) finding("prim_order slot in no leaf");
+    for (size_t i = 0; i < triangles; ++i) {
+        if (has_area[i] && !seen[i]) finding("a triangle with an area in no group");
+        if (!has_area[i] && seen[i]) finding("a triangle with no area in a group");
+    }
+}
+
+// Field by field: a node's padding bytes are not part of it.
+bool same_nodes(const WideBvh& a, const WideBvh& b) {
+    if (a.nodes.size() != b.nodes.size()) return false;
+    for (size_t i = 0; i < a.nodes.size(); ++i) {
+        const WideBvhNode &x = a.nodes[i], &y = b.nodes[i];
+        if (std::memcmp(x.child, y.child, sizeof x.child) != 0 || std::memcmp(x.bounds, y.bounds, sizeof x.bounds) != 0 ||
+            std::memcmp(x.prim_count, y.prim_count, sizeof x.prim_count) != 0 || x.child_count != y.child_count)
+            return false;
+    }
+    return true;
 }
 
 }  // namespace
@@ -192,11 +226,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     check_mesh(mesh);
     const size_t triangles = mesh.triangle_count();
     const MeshShape shape = build_mesh_shape(mesh, 1);
-    check_shape(shape, triangles);
+    check_shape(shape, mesh);
     if (triangles >= 16384) {
         const MeshShape threaded = build_mesh_shape(mesh, 2);
-        if (!same_array(threaded.bvh.prim_order, shape.bvh.prim_order) ||
-            !same_array(threaded.bvh.nodes, shape.bvh.nodes))
+        if (!same_nodes(threaded.bvh, shape.bvh) || !same_array(threaded.groups, shape.groups))
             finding("the mesh BVH depends on the thread count");
     }
     return 0;

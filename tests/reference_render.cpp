@@ -5,17 +5,32 @@
 
 #include "geometry/rev_surface.h"
 #include "geometry/triangle.h"
+#include "geometry/triangle_groups.h"
 #include "render/integrator.h"
 #include "render/sampler.h"
 
 namespace raycast::test {
 
 ReferenceScene::ReferenceScene(const Scene& scene) : scene_(scene) {
-    // surface_at finds a mesh triangle's corners at its leaf slot: the inverse of prim_order.
+    // A built mesh keeps its triangles only in its groups (its positions and index list are
+    // dropped), so the reference reads them there: every group, in storage order, never through
+    // the BVH. That a group holds exactly the mesh's triangles with an area, with their own
+    // corners, is fuzz_obj_loader's and the triangle-group tests' to check; what this checks is
+    // that the wide BVH and every kernel find the nearest of them.
     for (const MeshShape& shape : scene.meshes) {
-        std::vector<uint32_t> leaf_of(shape.mesh.triangle_count(), 0);
-        for (uint32_t leaf = 0; leaf < shape.bvh.prim_order.size(); ++leaf) leaf_of[shape.bvh.prim_order[leaf]] = leaf;
-        leaf_of_.push_back(std::move(leaf_of));
+        std::vector<MeshTriangle> triangles;
+        const size_t end = shape.groups.size() - std::min<size_t>(shape.groups.size(), kGroupPaddingBlocks);
+        for (const GroupBlock* group = shape.groups.data(); group < shape.groups.data() + end; group = next_group(group)) {
+            const uint32_t leaf = static_cast<uint32_t>(group - shape.groups.data());
+            for (uint32_t lane = 0; lane < group_triangle_count(group); ++lane) {
+                const GroupTriangle tri = group_triangle(group, lane);
+                triangles.push_back({tri.p0, tri.p1, tri.p2, tri.id, leaf});
+            }
+        }
+        // The mesh's own order, as brute force over the file would test them.
+        std::sort(triangles.begin(), triangles.end(),
+                  [](const MeshTriangle& a, const MeshTriangle& b) { return a.id < b.id; });
+        triangles_.push_back(std::move(triangles));
     }
 }
 
@@ -53,15 +68,11 @@ void ReferenceScene::for_each_hit(const Ray& world_ray, float t_min, Visit&& vis
                 break;
             }
             case ShapeKind::Mesh: {
-                const MeshShape& shape = scene_.meshes[instance.shape];
-                const TriangleMesh& mesh = shape.mesh;
                 const WatertightRay watertight = make_watertight_ray(ray);
-                for (uint32_t prim = 0; prim < mesh.triangle_count(); ++prim) {
-                    const uint32_t* corner = &mesh.indices[3 * size_t{prim}];
-                    const Vec3f p0 = mesh.positions[corner[0]], p1 = mesh.positions[corner[1]],
-                                p2 = mesh.positions[corner[2]];
-                    if (!is_degenerate_triangle(p0, p1, p2) && intersect_triangle(watertight, p0, p1, p2, t_min, hit))
-                        visit(hit.t, hit.u, hit.v, id, prim, leaf_of_[instance.shape][prim]);
+                for (const MeshTriangle& tri : triangles_[instance.shape]) {
+                    if (!is_degenerate_triangle(tri.p0, tri.p1, tri.p2) &&
+                        intersect_triangle(watertight, tri.p0, tri.p1, tri.p2, t_min, hit))
+                        visit(hit.t, hit.u, hit.v, id, tri.id, tri.leaf);
                 }
                 break;
             }

@@ -15,7 +15,8 @@
 
 namespace raycast::test {
 
-/// A scene prepared for brute force: the mesh triangles' leaf slots, which surface_at reads.
+/// A scene prepared for brute force: each mesh's triangles in the mesh's own order, with the group
+/// that holds each one (Hit::leaf, where surface_at finds it).
 class ReferenceScene {
 public:
     explicit ReferenceScene(const Scene& scene);
@@ -30,8 +31,14 @@ private:
     template <typename Visit>
     void for_each_hit(const Ray& ray, float t_min, Visit&& visit) const;
 
+    struct MeshTriangle {
+        Vec3f p0, p1, p2;
+        uint32_t id = 0;    ///< the triangle's index in its mesh
+        uint32_t leaf = 0;  ///< the first block of its group
+    };
+
     const Scene& scene_;
-    std::vector<std::vector<uint32_t>> leaf_of_;  ///< per mesh: triangle index -> its leaf slot
+    std::vector<std::vector<MeshTriangle>> triangles_;  ///< per mesh, by id
 };
 
 /// The image render_image(scene, options) makes (without a crop; Cost mode is not supported: it

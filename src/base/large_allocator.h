@@ -37,16 +37,18 @@ struct LargeAllocator {
     template <typename U>
     LargeAllocator(const LargeAllocator<U>&) noexcept {}
 
+    // Small blocks honour alignof(T) as std::allocator does (a BVH node may ask for a cache
+    // line); large ones are aligned to 2 MiB anyway.
     T* allocate(size_t n) {
         if (n > static_cast<size_t>(-1) / sizeof(T)) throw std::bad_alloc();
         const size_t bytes = n * sizeof(T);
-        if (bytes < kLargeBlockBytes) return static_cast<T*>(::operator new(bytes));
+        if (bytes < kLargeBlockBytes) return static_cast<T*>(::operator new(bytes, std::align_val_t{alignof(T)}));
         return static_cast<T*>(allocate_large_block(bytes));
     }
     void deallocate(T* p, size_t n) noexcept {
         const size_t bytes = n * sizeof(T);
         if (bytes < kLargeBlockBytes) {
-            ::operator delete(p);
+            ::operator delete(p, std::align_val_t{alignof(T)});
             return;
         }
         free_large_block(p, bytes);

@@ -48,6 +48,16 @@ TEST(LargeAllocator, VectorsOfEverySizeBehaveAsStdVector) {
     }
 }
 
+TEST(LargeAllocator, SmallBlocksKeepTheAlignmentOfTheirType) {
+    struct alignas(64) CacheLine {
+        unsigned char bytes[64];
+    };
+    for (size_t count : {size_t{1}, size_t{3}, size_t{1000}}) {
+        LargeVector<CacheLine> lines(count);
+        EXPECT_EQ(address(lines.data()) % 64, 0u) << count;
+    }
+}
+
 TEST(LargeAllocator, ImpossibleSizesThrowBadAlloc) {
     LargeAllocator<uint64_t> allocator;
     EXPECT_THROW(allocator.allocate(static_cast<size_t>(-1) / 4), std::bad_alloc);

@@ -1,7 +1,12 @@
 #include "bvh/build_bvh.h"
 
+#include "bvh/wide_bvh.h"
+
 #ifdef __GLIBC__
 #include <malloc.h>
+#endif
+#if defined(__linux__)
+#include <sys/mman.h>
 #endif
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -10,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <new>
 
@@ -28,6 +34,12 @@ constexpr uint32_t kBinningChunk = 32768;
 constexpr int kMaxBins = 32;
 
 Vec3f centroid(const Bounds3f& b) { return (b.lower + b.upper) * 0.5f; }
+
+// What a leaf of `count` primitives costs in the SAH: one test per `test_width` of them.
+float leaf_test_cost(uint32_t count, int test_width) {
+    const uint32_t width = static_cast<uint32_t>(std::max(1, test_width));
+    return static_cast<float>(width == 1 ? count : (count + width - 1) / width);
+}
 
 // Boxes are stored a little larger than their contents: one float step outwards on every side,
 // and at least kMinPad. A ray whose direction component is 0 gets 1/1e-30 = 1e30 as its inverse
@@ -92,6 +104,115 @@ struct Binning {
     }
 };
 
+
+WideBvhNode empty_wide_node() {
+    WideBvhNode node;
+    for (int axis = 0; axis < 3; ++axis)
+        for (int slot = 0; slot < kWideBvhWidth; ++slot) {
+            node.bounds[axis][0][slot] = INFINITY;
+            node.bounds[axis][1][slot] = -INFINITY;
+        }
+    for (int slot = 0; slot < kWideBvhWidth; ++slot) {
+        node.child[slot] = 0;
+        node.prim_count[slot] = 0;
+    }
+    node.child_count = 0;
+    return node;
+}
+
+void set_child_box(WideBvhNode& node, int slot, const Bounds3f& box) {
+    for (int axis = 0; axis < 3; ++axis) {
+        node.bounds[axis][0][slot] = box.lower[axis];
+        node.bounds[axis][1][slot] = box.upper[axis];
+    }
+}
+
+// A leaf as a wide node's child: its primitive range.
+void set_leaf_child(WideBvhNode& node, int slot, uint32_t first, uint32_t count) {
+    node.child[slot] = kWideLeafFlag | first;
+    node.prim_count[slot] = static_cast<uint16_t>(count);
+}
+
+// Turns a binary tree into wide nodes. Each wide node takes the two children of a binary inner
+// node and keeps opening the one with the largest surface area (the likeliest to be entered)
+// until it has kWideBvhWidth children or only unopenable ones. Nodes are written depth first,
+// each before its subtrees. `Tree` says what may be opened (Tree::Ref, openable, children, box)
+// and writes the children that are not (terminal: a leaf, or a piece built elsewhere).
+template <typename Tree, typename Nodes>
+class Collapser {
+public:
+    using Ref = typename Tree::Ref;
+
+    Collapser(const Tree& tree, Nodes& out) : tree_(tree), out_(out) {}
+
+    // Writes the wide node for the openable `ref` and everything below it; returns its index.
+    uint32_t emit(Ref ref) {
+        Ref slots[kWideBvhWidth];
+        int count = 2;
+        tree_.children(ref, slots[0], slots[1]);
+        while (count < kWideBvhWidth) {
+            int widest = -1;
+            float widest_area = -1;
+            for (int i = 0; i < count; ++i) {
+                if (!tree_.openable(slots[i])) continue;
+                const float area = tree_.box(slots[i]).half_area();
+                if (widest < 0 || area > widest_area) {
+                    widest = i;
+                    widest_area = area;
+                }
+            }
+            if (widest < 0) break;
+            // Its two children take its place, in order, so leaves keep their binary order.
+            for (int i = count; i > widest + 1; --i) slots[i] = slots[i - 1];
+            tree_.children(slots[widest], slots[widest], slots[widest + 1]);
+            ++count;
+        }
+        const uint32_t index = static_cast<uint32_t>(out_.size());
+        out_.push_back(empty_wide_node());
+        for (int i = 0; i < count; ++i) {
+            set_child_box(out_[index], i, tree_.box(slots[i]));
+            if (!tree_.openable(slots[i])) tree_.terminal(slots[i], index, i, out_[index]);
+        }
+        out_[index].child_count = static_cast<uint32_t>(count);
+        for (int i = 0; i < count; ++i)
+            if (tree_.openable(slots[i])) {
+                const uint32_t child = emit(slots[i]);  // may move out_: index, not a reference
+                out_[index].child[i] = child;
+            }
+        return index;
+    }
+
+private:
+    const Tree& tree_;
+    Nodes& out_;
+};
+
+// A binary node array (one piece, or a whole Bvh) as the collapse sees it. Inner nodes'
+// `first` is relative to `nodes`; leaves' `first` indexes prim_order.
+struct BinaryTree {
+    using Ref = uint32_t;
+    const BvhNode* nodes;
+
+    bool openable(Ref ref) const { return !nodes[ref].is_leaf(); }
+    void children(Ref ref, Ref& left, Ref& right) const {
+        left = nodes[ref].first;
+        right = left + 1;
+    }
+    const Bounds3f& box(Ref ref) const { return nodes[ref].bounds; }
+    void terminal(Ref ref, uint32_t, int slot, WideBvhNode& node) const {
+        set_leaf_child(node, slot, nodes[ref].first, nodes[ref].count);
+    }
+};
+
+// A tree of a single leaf still gets a root node, so that traversal always starts at one.
+WideBvhNode root_of_one_leaf(const BvhNode& leaf) {
+    WideBvhNode node = empty_wide_node();
+    set_child_box(node, 0, leaf.bounds);
+    set_leaf_child(node, 0, leaf.first, leaf.count);
+    node.child_count = 1;
+    return node;
+}
+
 class Builder {
 public:
     Builder(BvhPrimitive* primitives, const BvhBuildOptions& options)
@@ -99,6 +220,7 @@ public:
           options_(options),
           bin_count_(std::clamp(options.bin_count, 2, kMaxBins)),
           max_leaf_(std::max(1, options.max_leaf_size)),
+          test_width_(std::max(1, options.leaf_test_width)),
           threads_(std::max(1, options.threads)) {}
 
     Range make_range(uint32_t begin, uint32_t end) const {
@@ -144,6 +266,78 @@ public:
         return nodes;
     }
 
+
+    // The wide build, steps 2 and 3: each piece is built as a binary tree in its thread's scratch
+    // space and collapsed at once, so only the wide nodes are kept (about a quarter of the
+    // binary tree's bytes). After this the primitives are in their final order.
+    void build_wide_pieces(const Range& all) {
+        root_ = split_top(all, 0);
+        wide_pieces_.resize(pieces_.size());
+        // Each thread reuses its own room for a piece's binary and wide nodes; a piece keeps an
+        // exact-size copy of its wide nodes, so that no slack of a growing vector (half as much
+        // again) stays resident beside the primitives at the build's peak.
+        struct Scratch {
+            std::vector<BvhNode> binary;
+            std::vector<WideBvhNode> wide;
+        };
+        std::vector<Scratch> scratch(static_cast<size_t>(threads_));
+        parallel_for(pieces_.size(), threads_, [&](size_t i, int worker) {
+            Scratch& room = scratch[static_cast<size_t>(worker)];
+            room.binary.resize(2 * size_t{pieces_[i].range.size()});
+            NodeSink sink{room.binary.data(), 1};
+            build(pieces_[i].range, sink, 0, pieces_[i].depth);
+            WidePiece& piece = wide_pieces_[i];
+            piece.root = room.binary[0];
+            const BinaryTree tree{room.binary.data()};
+            if (!tree.openable(0)) return;
+            room.wide.clear();
+            Collapser<BinaryTree, std::vector<WideBvhNode>>(tree, room.wide).emit(0);
+            piece.nodes.assign(room.wide.begin(), room.wide.end());
+        });
+    }
+
+    // The wide build, step 4: the top of the tree is collapsed too, then everything is laid out
+    // in one array: the top's nodes, then each piece's, in piece order (as in assemble()).
+    LargeVector<WideBvhNode> assemble_wide() {
+        LargeVector<WideBvhNode> nodes;
+        if (root_ < 0) {  // one piece is the whole tree
+            WidePiece& piece = wide_pieces_[static_cast<size_t>(~root_)];
+            if (piece.nodes.empty()) {
+                nodes.push_back(root_of_one_leaf(piece.root));
+            } else {
+                nodes.assign(piece.nodes.begin(), piece.nodes.end());
+            }
+            return nodes;
+        }
+        std::vector<WideBvhNode> top;
+        TopTree tree{this, {}};
+        Collapser<TopTree, std::vector<WideBvhNode>>(tree, top).emit(root_);
+        std::vector<uint32_t> base(wide_pieces_.size());
+        size_t total = top.size();
+        for (size_t i = 0; i < wide_pieces_.size(); ++i) {
+            base[i] = static_cast<uint32_t>(total);
+            total += wide_pieces_[i].nodes.size();
+        }
+        nodes.reserve(total);
+        nodes.assign(top.begin(), top.end());
+        for (const PieceLink& link : tree.links) {
+            const WidePiece& piece = wide_pieces_[link.piece];
+            if (piece.nodes.empty())
+                set_leaf_child(nodes[link.node], link.slot, piece.root.first, piece.root.count);
+            else
+                nodes[link.node].child[link.slot] = base[link.piece];
+        }
+        for (size_t i = 0; i < wide_pieces_.size(); ++i) {
+            for (WideBvhNode node : wide_pieces_[i].nodes) {
+                for (uint32_t slot = 0; slot < node.child_count; ++slot)
+                    if (!is_wide_leaf(node.child[slot])) node.child[slot] += base[i];
+                nodes.push_back(node);
+            }
+            std::vector<WideBvhNode>().swap(wide_pieces_[i].nodes);
+        }
+        return nodes;
+    }
+
 private:
     // A child of a top node: another top node (>= 0) or a piece (~index, < 0).
     using ChildRef = int64_t;
@@ -154,6 +348,39 @@ private:
     struct Piece {
         Range range;
         int depth;
+    };
+    // A piece of the wide build: its binary root, and its wide nodes unless that root is a leaf
+    // (local indices: node 0 is the piece's root).
+    struct WidePiece {
+        BvhNode root;
+        std::vector<WideBvhNode> nodes;
+    };
+    // Where a collapsed top node refers to a piece, to be filled once the pieces are placed.
+    struct PieceLink {
+        uint32_t node;
+        int slot;
+        size_t piece;
+    };
+    // The top of the tree as the collapse sees it: pieces cannot be opened (they are collapsed
+    // already); each reference to one is noted in `links`.
+    struct TopTree {
+        using Ref = ChildRef;
+        const Builder* builder;
+        mutable std::vector<PieceLink> links;
+
+        bool openable(Ref ref) const { return ref >= 0; }
+        void children(Ref ref, Ref& left, Ref& right) const {
+            const TopNode& node = builder->top_[static_cast<size_t>(ref)];
+            left = node.child[0];
+            right = node.child[1];
+        }
+        Bounds3f box(Ref ref) const {
+            if (ref >= 0) return pad_box(builder->top_[static_cast<size_t>(ref)].bounds);
+            return builder->wide_pieces_[static_cast<size_t>(~ref)].root.bounds;
+        }
+        void terminal(Ref ref, uint32_t node, int slot, WideBvhNode&) const {
+            links.push_back({node, slot, static_cast<size_t>(~ref)});
+        }
     };
 
     ChildRef split_top(const Range& range, int depth) {
@@ -216,8 +443,7 @@ private:
         const uint32_t count = range.size();
         Split split;
         if (count > 1 && depth < kMaxSahDepth) split = find_sah_split(range);
-        const float leaf_cost = static_cast<float>(count);
-        if (count <= static_cast<uint32_t>(max_leaf_) && (split.axis < 0 || leaf_cost <= split.cost)) {
+        if (count <= static_cast<uint32_t>(max_leaf_) && (split.axis < 0 || leaf_tests(count) <= split.cost)) {
             node.first = range.begin;
             node.count = count;
             return;
@@ -331,7 +557,7 @@ private:
             for (int plane = bin_count_ - 1; plane > 0; --plane) {
                 accumulated.grow(axis_bins[plane].bounds);
                 accumulated_count += axis_bins[plane].count;
-                right_cost[plane] = accumulated.half_area() * static_cast<float>(accumulated_count);
+                right_cost[plane] = accumulated.half_area() * leaf_tests(accumulated_count);
             }
             accumulated = Bounds3f{};
             accumulated_count = 0;
@@ -341,7 +567,7 @@ private:
                 if (accumulated_count == 0 || accumulated_count == range.size()) continue;
                 const float cost =
                     options_.traversal_cost +
-                    (accumulated.half_area() * static_cast<float>(accumulated_count) + right_cost[plane]) / parent_area;
+                    (accumulated.half_area() * leaf_tests(accumulated_count) + right_cost[plane]) / parent_area;
                 if (best.axis < 0 || cost < best.cost) {
                     best.axis = axis;
                     best.bin = plane;
@@ -399,15 +625,19 @@ private:
         return split;
     }
 
+    float leaf_tests(uint32_t count) const { return leaf_test_cost(count, test_width_); }
+
     BvhPrimitive* primitives_;
     const BvhBuildOptions& options_;
     int bin_count_;
     int max_leaf_;
+    int test_width_;
     int threads_;
     std::vector<TopNode> top_;
     std::vector<Piece> pieces_;
     std::vector<size_t> piece_offset_;  // piece i's room in pool_ starts here
     std::vector<uint32_t> piece_size_;  // nodes piece i used
+    std::vector<WidePiece> wide_pieces_;
     struct Free {
         void operator()(BvhNode* p) const { std::free(p); }
     };
@@ -415,10 +645,41 @@ private:
     ChildRef root_ = 0;
 };
 
+// The primitives' ids in their order, and the primitives freed. The ids are first packed at the
+// front of the primitives' own buffer (id i goes to bytes [4i, 4i + 4), which only overwrites
+// primitives already read) and the rest of that buffer goes back to the system, so that the id
+// array (4 bytes a primitive) is never allocated beside all the primitives (28 bytes each): at a
+// mesh's peak of memory, the mesh and the finished subtrees are resident too.
+std::vector<uint32_t> take_ids(std::vector<BvhPrimitive>& primitives) {
+    const size_t count = primitives.size();
+    unsigned char* bytes = reinterpret_cast<unsigned char*>(primitives.data());
+    for (size_t i = 0; i < count; ++i) {
+        const uint32_t id = primitives[i].id;
+        std::memcpy(bytes + 4 * i, &id, 4);
+    }
+#if defined(__linux__)
+    const uintptr_t page = 4096;
+    const uintptr_t keep_end = (reinterpret_cast<uintptr_t>(bytes) + 4 * count + page - 1) & ~(page - 1);
+    const uintptr_t end = reinterpret_cast<uintptr_t>(bytes + count * sizeof(BvhPrimitive)) & ~(page - 1);
+    if (end > keep_end) madvise(reinterpret_cast<void*>(keep_end), end - keep_end, MADV_DONTNEED);
+#endif
+    std::vector<uint32_t> ids(count);
+    if (count > 0) std::memcpy(ids.data(), bytes, 4 * count);
+    std::vector<BvhPrimitive>().swap(primitives);
+    return ids;
+}
+
+// Empty boxes can never be hit: those primitives stay out of the tree.
+void drop_empty_boxes(std::vector<BvhPrimitive>& primitives) {
+    primitives.erase(std::remove_if(primitives.begin(), primitives.end(),
+                                    [](const BvhPrimitive& p) { return p.bounds.is_empty(); }),
+                     primitives.end());
+}
+
 double sah_cost_of(const Bvh& bvh, uint32_t index, const BvhBuildOptions& options) {
     const BvhNode& node = bvh.nodes[index];
     const double area = node.bounds.half_area();
-    if (node.is_leaf()) return area * node.count;
+    if (node.is_leaf()) return area * leaf_test_cost(node.count, options.leaf_test_width);
     return area * options.traversal_cost + sah_cost_of(bvh, node.first, options) +
            sah_cost_of(bvh, node.first + 1, options);
 }
@@ -426,9 +687,7 @@ double sah_cost_of(const Bvh& bvh, uint32_t index, const BvhBuildOptions& option
 }  // namespace
 
 Bvh build_bvh(std::vector<BvhPrimitive> primitives, const BvhBuildOptions& options) {
-    primitives.erase(std::remove_if(primitives.begin(), primitives.end(),
-                                    [](const BvhPrimitive& p) { return p.bounds.is_empty(); }),
-                     primitives.end());
+    drop_empty_boxes(primitives);
     Bvh bvh;
     if (primitives.empty()) return bvh;
     Builder builder(primitives.data(), options);
@@ -452,6 +711,43 @@ double sah_cost(const Bvh& bvh, const BvhBuildOptions& options) {
     const double root_area = bvh.nodes[0].bounds.half_area();
     const double total = sah_cost_of(bvh, 0, options);
     return root_area > 0 ? total / root_area : total;
+}
+
+}  // namespace raycast
+
+namespace raycast {
+
+WideBvh build_wide_bvh(std::vector<BvhPrimitive> primitives, const BvhBuildOptions& options) {
+    drop_empty_boxes(primitives);
+    WideBvh bvh;
+    if (primitives.empty()) return bvh;
+    // A leaf's first primitive must fit a child reference's 31 bits, and its count 16 bits.
+    if (primitives.size() > kWidePayloadMask || options.max_leaf_size > 0xffff) throw std::bad_alloc();
+    Builder builder(primitives.data(), options);
+    const Range all = builder.make_range(0, static_cast<uint32_t>(primitives.size()));
+    builder.build_wide_pieces(all);
+    bvh.prim_order = take_ids(primitives);
+    bvh.nodes = builder.assemble_wide();
+    bvh.bounds = pad_box(all.bounds);
+#ifdef __GLIBC__
+    malloc_trim(0);  // as in build_bvh
+#endif
+    return bvh;
+}
+
+WideBvh collapse_bvh(const Bvh& binary) {
+    WideBvh wide;
+    if (binary.empty()) return wide;
+    RAYCAST_CHECK(binary.prim_order.size() <= kWidePayloadMask);
+    wide.prim_order = binary.prim_order;
+    wide.bounds = binary.nodes[0].bounds;
+    const BinaryTree tree{binary.nodes.data()};
+    if (!tree.openable(0)) {
+        wide.nodes.push_back(root_of_one_leaf(binary.nodes[0]));
+        return wide;
+    }
+    Collapser<BinaryTree, LargeVector<WideBvhNode>>(tree, wide.nodes).emit(0);
+    return wide;
 }
 
 }  // namespace raycast

@@ -23,20 +23,15 @@
 #include "scene/build_scene.h"
 #include "scene/scene.h"
 #include "scene_builders.h"
+#include "trace_test_support.h"
 
 namespace raycast {
 namespace {
 
-using namespace test;  // the scene builders (tests/scene_builders.h)
+using namespace test;  // tests/scene_builders.h and tests/trace_test_support.h
 
 // ---------------------------------------------------------------------------------------------
 // Tree invariants
-
-bool contains(const Bounds3f& outer, const Bounds3f& inner) {
-    for (int a = 0; a < 3; ++a)
-        if (inner.lower[a] < outer.lower[a] || inner.upper[a] > outer.upper[a]) return false;
-    return true;
-}
 
 bool same_bounds(const Bounds3f& a, const Bounds3f& b) { return a.lower == b.lower && a.upper == b.upper; }
 
@@ -54,13 +49,8 @@ Bounds3f padded(Bounds3f b) {
 // Checks the invariants of a tree built over `prims` (ids = their index); returns the depth of
 // the deepest leaf (the root has depth 0).
 int check_tree(const Bvh& bvh, const std::vector<BvhPrimitive>& prims, int max_leaf_size) {
-    std::vector<uint32_t> expected_ids;
     Bounds3f all;
-    for (const BvhPrimitive& p : prims)
-        if (!p.bounds.is_empty()) {
-            expected_ids.push_back(p.id);
-            all.grow(p.bounds);
-        }
+    const std::vector<uint32_t> expected_ids = ids_with_boxes(prims, all);
     if (expected_ids.empty()) {
         EXPECT_TRUE(bvh.empty());
         EXPECT_TRUE(bvh.prim_order.empty());
@@ -72,7 +62,6 @@ int check_tree(const Bvh& bvh, const std::vector<BvhPrimitive>& prims, int max_l
     // prim_order is a permutation of the non-empty primitives' ids.
     std::vector<uint32_t> order = bvh.prim_order;
     std::sort(order.begin(), order.end());
-    std::sort(expected_ids.begin(), expected_ids.end());
     EXPECT_EQ(order, expected_ids) << "prim_order is not a permutation of the non-empty primitives";
 
     EXPECT_TRUE(same_bounds(bvh.nodes[0].bounds, padded(all))) << "the root box is not the box of everything";
@@ -128,25 +117,6 @@ int check_tree(const Bvh& bvh, const std::vector<BvhPrimitive>& prims, int max_l
     EXPECT_LT(max_depth, kMaxBvhDepth);
     EXPECT_LE(max_depth, kMaxSahDepth + 33);
     return max_depth;
-}
-
-Bounds3f box(Vec3f lower, Vec3f upper) {
-    Bounds3f b;
-    b.lower = lower;
-    b.upper = upper;
-    return b;
-}
-
-std::vector<BvhPrimitive> random_boxes(std::mt19937& rng, size_t count, float world, float max_size) {
-    std::uniform_real_distribution<float> u(-1, 1), size_exp(-4, 0);
-    std::vector<BvhPrimitive> prims(count);
-    for (size_t i = 0; i < count; ++i) {
-        const Vec3f c{u(rng) * world, u(rng) * world, u(rng) * world};
-        const float s = max_size * std::pow(10.0f, size_exp(rng));
-        const Vec3f half{s * std::fabs(u(rng)), s * std::fabs(u(rng)), s * std::fabs(u(rng))};
-        prims[i] = {box(c - half, c + half), static_cast<uint32_t>(i)};
-    }
-    return prims;
 }
 
 TEST(BvhBuild, NothingToBuildGivesAnEmptyTree) {
@@ -320,111 +290,26 @@ TEST(BvhBuild, SahCostIsNoWorseThanAMedianSplit) {
 // ---------------------------------------------------------------------------------------------
 // Meshes, scenes and brute force
 
-TriangleMesh soup(std::mt19937& rng, size_t count, float world, float size) {
-    std::uniform_real_distribution<float> u(-1, 1), size_exp(-1.5f, 0);
-    TriangleMesh mesh;
-    for (size_t i = 0; i < count; ++i) {
-        const Vec3f c{u(rng) * world, u(rng) * world, u(rng) * world};
-        const float s = size * std::pow(10.0f, size_exp(rng));
-        for (int k = 0; k < 3; ++k) {
-            mesh.indices.push_back(static_cast<uint32_t>(mesh.positions.size()));
-            mesh.positions.push_back(c + Vec3f{u(rng), u(rng), u(rng)} * s);
-        }
-    }
-    return mesh;
-}
-
-// A closed UV sphere: poles and rings share their vertices, the seam wraps around by index.
-TriangleMesh sphere_mesh(Vec3f centre, float radius, int rings, int segments) {
-    TriangleMesh mesh;
-    mesh.positions.push_back(centre + Vec3f{0, radius, 0});
-    for (int r = 1; r < rings; ++r) {
-        const float theta = 3.14159265f * static_cast<float>(r) / static_cast<float>(rings);
-        for (int s = 0; s < segments; ++s) {
-            const float phi = 6.2831853f * static_cast<float>(s) / static_cast<float>(segments);
-            mesh.positions.push_back(centre + Vec3f{std::sin(theta) * std::cos(phi), std::cos(theta),
-                                                    std::sin(theta) * std::sin(phi)} *
-                                                  radius);
-        }
-    }
-    const uint32_t south = static_cast<uint32_t>(mesh.positions.size());
-    mesh.positions.push_back(centre - Vec3f{0, radius, 0});
-    auto ring_vertex = [&](int r, int s) {
-        return static_cast<uint32_t>(1 + (r - 1) * segments + (s % segments));
-    };
-    auto add = [&](uint32_t a, uint32_t b, uint32_t c) { mesh.indices.insert(mesh.indices.end(), {a, b, c}); };
-    for (int s = 0; s < segments; ++s) {
-        add(0, ring_vertex(1, s + 1), ring_vertex(1, s));
-        for (int r = 1; r + 1 < rings; ++r) {
-            add(ring_vertex(r, s), ring_vertex(r, s + 1), ring_vertex(r + 1, s + 1));
-            add(ring_vertex(r, s), ring_vertex(r + 1, s + 1), ring_vertex(r + 1, s));
-        }
-        add(south, ring_vertex(rings - 1, s), ring_vertex(rings - 1, s + 1));
-    }
-    return mesh;
-}
-
-// A height field over [0, n]², cells cut along alternating diagonals.
-TriangleMesh grid_mesh(std::mt19937& rng, int n, float bumpiness) {
-    std::uniform_real_distribution<float> u(-1, 1);
-    TriangleMesh mesh;
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i)
-            mesh.positions.push_back({static_cast<float>(i), static_cast<float>(j), bumpiness * u(rng)});
-    auto at = [n](int i, int j) { return static_cast<uint32_t>(j * (n + 1) + i); };
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            if ((i + j) % 2 == 0) {
-                mesh.indices.insert(mesh.indices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-                mesh.indices.insert(mesh.indices.end(), {at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-            } else {
-                mesh.indices.insert(mesh.indices.end(), {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
-                mesh.indices.insert(mesh.indices.end(), {at(i + 1, j), at(i, j + 1), at(i, j)});
-            }
-        }
-    return mesh;
-}
-
-SceneDesc scene_desc() {
-    SceneDesc desc;
-    desc.file = "test.scene";
-    CameraDesc camera;
-    camera.center = {0, 0, 20};
-    camera.angle_degrees = 30;
-    camera.width = camera.height = 8;
-    desc.camera = camera;
-    desc.materials.resize(1);
-    ObjectDesc root;
-    root.kind = ObjectDesc::Kind::Group;
-    desc.root = root;
-    return desc;
-}
-
-int add_mesh(SceneDesc& desc, TriangleMesh mesh) {
-    desc.meshes.push_back({"mesh" + std::to_string(desc.meshes.size()) + ".obj", std::move(mesh)});
-    return static_cast<int>(desc.meshes.size()) - 1;
-}
-
-Scene scene_with(SceneDesc desc, int threads = 1) {
-    SceneBuildOptions options;
-    options.threads = threads;
-    return build_scene(std::move(desc), options);
-}
-
-Scene scene_of_mesh(TriangleMesh mesh, int threads = 1) {
-    SceneDesc desc = scene_desc();
-    const int index = add_mesh(desc, std::move(mesh));
-    desc.root->children.push_back(mesh_object(index));
-    return scene_with(std::move(desc), threads);
-}
-
 void offer(Hit& best, float t, float u, float v, uint32_t object, uint32_t prim) {
     if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim};
 }
 
+// A scene, and the triangles of each of its meshes decoded once from their groups (the groups
+// hold the mesh's own corners: see LargeMeshBuiltInParallelMatchesBruteForce), for brute force.
+struct Checked {
+    const Scene& scene;
+    std::vector<std::vector<GroupTriangle>> mesh_triangles;
+
+    explicit Checked(const Scene& s) : scene(s), mesh_triangles(s.meshes.size()) {
+        for (size_t m = 0; m < s.meshes.size(); ++m)
+            for_each_group_triangle(s.meshes[m], [&](const GroupTriangle& tri, uint32_t) { mesh_triangles[m].push_back(tri); });
+    }
+};
+
 // The closest hit by looking at every primitive of every object, with the same primitive tests
 // and object-space rays as the scene, but no BVH.
-Hit brute_force(const Scene& scene, const Ray& world_ray, float t_min) {
+Hit brute_force(const Checked& checked, const Ray& world_ray, float t_min) {
+    const Scene& scene = checked.scene;
     Hit best;
     for (uint32_t id = 0; id < scene.instances.size(); ++id) {
         const Instance& inst = scene.instances[id];
@@ -446,13 +331,9 @@ Hit brute_force(const Scene& scene, const Ray& world_ray, float t_min) {
                 break;
             }
             case ShapeKind::Mesh: {
-                const TriangleMesh& mesh = scene.meshes[inst.shape].mesh;
                 const WatertightRay w = make_watertight_ray(ray);
-                for (uint32_t i = 0; i < mesh.triangle_count(); ++i) {
-                    const uint32_t* c = &mesh.indices[3 * size_t{i}];
-                    if (intersect_triangle(w, mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]], t_min, h))
-                        offer(best, h.t, h.u, h.v, id, i);
-                }
+                for (const GroupTriangle& tri : checked.mesh_triangles[inst.shape])
+                    if (intersect_triangle(w, tri.p0, tri.p1, tri.p2, t_min, h)) offer(best, h.t, h.u, h.v, id, tri.id);
                 break;
             }
             case ShapeKind::RevSurface: {
@@ -466,29 +347,14 @@ Hit brute_force(const Scene& scene, const Ray& world_ray, float t_min) {
     return best;
 }
 
-std::string describe(const Hit& h) {
-    if (!h.is_hit()) return "miss";
-    char buffer[160];
-    std::snprintf(buffer, sizeof buffer, "t=%.9g (%a) object %u prim %u u=%.9g v=%.9g", static_cast<double>(h.t),
-                  static_cast<double>(h.t), h.object, h.prim, static_cast<double>(h.u), static_cast<double>(h.v));
-    return buffer;
-}
-
-std::string describe(const Ray& r, float t_min) {
-    char buffer[256];
-    std::snprintf(buffer, sizeof buffer, "ray (%a, %a, %a) + t·(%a, %a, %a), t_min %g", static_cast<double>(r.origin.x),
-                  static_cast<double>(r.origin.y), static_cast<double>(r.origin.z), static_cast<double>(r.direction.x),
-                  static_cast<double>(r.direction.y), static_cast<double>(r.direction.z), static_cast<double>(t_min));
-    return buffer;
-}
-
 // Compares the scene's answer with brute force, field by field; also the any-hit query right at
 // the closest t (strictly below it nothing may be found, just above it something must).
 // Returns false (after reporting a failure) on a mismatch for this ray.
-bool expect_same_as_brute_force(const Scene& scene, const Ray& ray, float t_min, Hit* out = nullptr) {
+bool expect_same_as_brute_force(const Checked& checked, const Ray& ray, float t_min, Hit* out = nullptr) {
+    const Scene& scene = checked.scene;
     Hit fast;
     intersect(scene, ray, t_min, fast);
-    const Hit slow = brute_force(scene, ray, t_min);
+    const Hit slow = brute_force(checked, ray, t_min);
     if (out) *out = fast;
     const bool same = fast.is_hit() == slow.is_hit() &&
                       (!slow.is_hit() || (fast.t == slow.t && fast.object == slow.object && fast.prim == slow.prim &&
@@ -497,10 +363,11 @@ bool expect_same_as_brute_force(const Scene& scene, const Ray& ray, float t_min,
                       << "\n  brute force: " << describe(slow);
     if (!same) return false;
     if (fast.is_hit() && scene.instances[fast.object].kind == ShapeKind::Mesh) {
-        // surface_at finds the triangle's corners through its leaf slot.
+        // surface_at finds the triangle's corners in the group that Hit::leaf names.
         const MeshShape& mesh = scene.meshes[scene.instances[fast.object].shape];
-        const bool slot_ok = fast.leaf < mesh.bvh.prim_order.size() && mesh.bvh.prim_order[fast.leaf] == fast.prim;
-        EXPECT_TRUE(slot_ok) << describe(ray, t_min) << ": leaf slot " << fast.leaf << " is not triangle " << fast.prim;
+        const bool slot_ok = fast.leaf < mesh.groups.size() &&
+                             group_lane_of(&mesh.groups[fast.leaf], fast.prim) < group_triangle_count(&mesh.groups[fast.leaf]);
+        EXPECT_TRUE(slot_ok) << describe(ray, t_min) << ": group " << fast.leaf << " does not hold triangle " << fast.prim;
         if (!slot_ok) return false;
     }
     bool occluded_right = true;
@@ -515,29 +382,6 @@ bool expect_same_as_brute_force(const Scene& scene, const Ray& ray, float t_min,
     return occluded_right;
 }
 
-Vec3f corner(const TriangleMesh& mesh, size_t triangle, int k) {
-    return mesh.positions[mesh.indices[3 * triangle + static_cast<size_t>(k)]];
-}
-
-// A point on the mesh where triangles meet: a vertex, or a point computed on an edge (in float,
-// so within rounding of the edge; the watertight test must still hit one of its triangles).
-Vec3f shared_point(const TriangleMesh& mesh, std::mt19937& rng) {
-    std::uniform_int_distribution<size_t> pick(0, mesh.triangle_count() - 1);
-    std::uniform_int_distribution<int> k3(0, 2), kind(0, 2);
-    std::uniform_real_distribution<float> u01(0, 1);
-    const size_t t = pick(rng);
-    const int k = k3(rng);
-    const Vec3f a = corner(mesh, t, k), b = corner(mesh, t, (k + 1) % 3);
-    switch (kind(rng)) {
-        case 0:
-            return a;
-        case 1:
-            return a + (b - a) * 0.5f;
-        default:
-            return a + (b - a) * u01(rng);
-    }
-}
-
 TEST(BvhTraversal, MatchesBruteForceOnRandomTriangleSoups) {
     std::mt19937 rng(21);
     std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
@@ -545,6 +389,7 @@ TEST(BvhTraversal, MatchesBruteForceOnRandomTriangleSoups) {
         SCOPED_TRACE("soup of " + std::to_string(count));
         const TriangleMesh mesh = soup(rng, count, 5, 2);
         const Scene scene = scene_of_mesh(mesh);
+        const Checked checked_scene(scene);
         int hits = 0;
         for (int r = 0; r < 3000; ++r) {
             Ray ray;
@@ -558,7 +403,7 @@ TEST(BvhTraversal, MatchesBruteForceOnRandomTriangleSoups) {
             if (r % 50 == 8) ray.direction.y = ray.direction.z = 0;
             const float t_min = r % 5 == 0 ? 0.5f * u01(rng) : (r % 97 == 0 ? -INFINITY : 0.0f);
             Hit hit;
-            if (!expect_same_as_brute_force(scene, ray, t_min, &hit)) return;
+            if (!expect_same_as_brute_force(checked_scene, ray, t_min, &hit)) return;
             hits += hit.is_hit();
         }
         if (count >= 300) {
@@ -575,6 +420,7 @@ TEST(BvhTraversal, EveryRayFromInsideAClosedSphereMeshHits) {
     const Vec3f centre{0.3f, -0.2f, 0.1f};
     const TriangleMesh mesh = sphere_mesh(centre, 2, 24, 48);
     const Scene scene = scene_of_mesh(mesh);
+    const Checked checked_scene(scene);
     for (int r = 0; r < 20000; ++r) {
         Vec3f origin = centre + Vec3f{u(rng), u(rng), u(rng)} * 1.1f;
         if (r % 10 == 0) origin = centre;
@@ -588,7 +434,7 @@ TEST(BvhTraversal, EveryRayFromInsideAClosedSphereMeshHits) {
         if (length(direction) == 0) continue;
         const Ray ray{origin, direction};
         Hit hit;
-        if (!expect_same_as_brute_force(scene, ray, 0, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, ray, 0, &hit)) return;
         ASSERT_TRUE(hit.is_hit()) << describe(ray, 0) << " escaped through the closed mesh";
         // The hit is on the tessellated sphere: between the inscribed radius and 2.
         const float distance = length(ray.at(hit.t) - centre);
@@ -603,6 +449,7 @@ TEST(BvhTraversal, RaysAtTheSharedEdgesAndVerticesOfAGridHitAndMatchBruteForce) 
     const int n = 48;
     const TriangleMesh mesh = grid_mesh(rng, n, 0.1f);
     const Scene scene = scene_of_mesh(mesh);
+    const Checked checked_scene(scene);
     for (int r = 0; r < 10000; ++r) {
         // A vertex or edge point of the height field, seen from above at a steep enough angle.
         const Vec3f target = shared_point(mesh, rng);
@@ -610,7 +457,7 @@ TEST(BvhTraversal, RaysAtTheSharedEdgesAndVerticesOfAGridHitAndMatchBruteForce) 
         const Vec3f origin = target + Vec3f{u(rng) * 3, u(rng) * 3, 2 + 8 * u01(rng)};
         const Ray ray{origin, (target - origin) * (r % 3 == 0 ? 1.0f : 0.25f + 2 * u01(rng))};
         Hit hit;
-        if (!expect_same_as_brute_force(scene, ray, 0, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, ray, 0, &hit)) return;
         ASSERT_TRUE(hit.is_hit()) << describe(ray, 0) << " slipped through the grid";
         EXPECT_NEAR(length(ray.at(hit.t) - target), 0, 1e-3f);
     }
@@ -641,19 +488,21 @@ TEST(BvhTraversal, RaysLyingInABoxFaceAreNotCulled) {
     square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
     square.indices = {0, 1, 2, 0, 2, 3};
     const Scene square_scene = scene_of_mesh(square);
+    const Checked checked_square_scene(square_scene);
     const Ray down_the_edge{{1, 0.5f, 5}, {0, 0, -1}};
-    ASSERT_TRUE(brute_force(square_scene, down_the_edge, 0).is_hit());
-    expect_same_as_brute_force(square_scene, down_the_edge, 0);
-    expect_same_as_brute_force(square_scene, {{0, 0.5f, 5}, {-0.0f, 0, -1}}, 0);  // left edge, −0
+    ASSERT_TRUE(brute_force(checked_square_scene, down_the_edge, 0).is_hit());
+    expect_same_as_brute_force(checked_square_scene, down_the_edge, 0);
+    expect_same_as_brute_force(checked_square_scene, {{0, 0.5f, 5}, {-0.0f, 0, -1}}, 0);  // left edge, −0
 
     // Straight down through every inner vertex and edge midpoint of a height field: every ray
     // hits, and the closest hit (ties: the lower triangle index) must be brute force's.
     std::mt19937 rng(23);
     const int n = 16;
     const Scene grid_scene = scene_of_mesh(grid_mesh(rng, n, 0.1f));
+    const Checked checked_grid_scene(grid_scene);
     for (int j = 1; j < 2 * n; ++j)
         for (int i = 1; i < 2 * n; ++i)
-            if (!expect_same_as_brute_force(grid_scene, {{static_cast<float>(i) / 2, static_cast<float>(j) / 2, 5}, {0, 0, -1}}, 0))
+            if (!expect_same_as_brute_force(checked_grid_scene, {{static_cast<float>(i) / 2, static_cast<float>(j) / 2, 5}, {0, 0, -1}}, 0))
                 return;
 
     // From the centre of a closed sphere mesh to each of its vertices (the poles and the vertices
@@ -661,8 +510,9 @@ TEST(BvhTraversal, RaysLyingInABoxFaceAreNotCulled) {
     const Vec3f centre{0.3f, -0.2f, 0.1f};
     const TriangleMesh ball = sphere_mesh(centre, 2, 24, 48);
     const Scene ball_scene = scene_of_mesh(ball);
+    const Checked checked_ball_scene(ball_scene);
     for (const Vec3f& p : ball.positions)
-        if (!expect_same_as_brute_force(ball_scene, {centre, p - centre}, 0)) return;
+        if (!expect_same_as_brute_force(checked_ball_scene, {centre, p - centre}, 0)) return;
 }
 
 TEST(BvhTraversal, ExactTiesGoToTheLowerTriangleIndex) {
@@ -674,12 +524,13 @@ TEST(BvhTraversal, ExactTiesGoToTheLowerTriangleIndex) {
     const size_t original = mesh.triangle_count();
     for (size_t i = 0; i < original * 3; ++i) mesh.indices.push_back(mesh.indices[i]);
     const Scene scene = scene_of_mesh(mesh);
+    const Checked checked_scene(scene);
     int hits = 0;
     for (int r = 0; r < 3000; ++r) {
         const Vec3f origin{u(rng) * 6, u(rng) * 6, u(rng) * 6};
         const Ray ray{origin, (r % 2 ? shared_point(mesh, rng) : Vec3f{u(rng), u(rng), u(rng)} * 3) - origin};
         Hit hit;
-        if (!expect_same_as_brute_force(scene, ray, 0, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, ray, 0, &hit)) return;
         if (hit.is_hit()) {
             ++hits;
             EXPECT_LT(hit.prim, original) << "a duplicate won the tie: " << describe(hit);
@@ -736,6 +587,7 @@ TEST(SceneIntersect, MatchesBruteForceOverMixedTransformedObjects) {
     copy.vertices[2] = corner(soup_mesh, 5, 2);
     objects.push_back(copy);
     const Scene scene = scene_with(std::move(desc));
+    const Checked checked_scene(scene);
     ASSERT_EQ(scene.instances.size(), 9u);
 
     std::vector<int> hits_per_object(9, 0);
@@ -758,7 +610,7 @@ TEST(SceneIntersect, MatchesBruteForceOverMixedTransformedObjects) {
         }
         const float t_min = r % 7 == 0 ? u01(rng) : 0.0f;
         Hit hit;
-        if (!expect_same_as_brute_force(scene, ray, t_min, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, ray, t_min, &hit)) return;
         if (hit.is_hit()) ++hits_per_object[hit.object];
     }
     // Every object but the shadowed duplicates is seen; ties always go to the first in file order.
@@ -777,6 +629,32 @@ TEST(SceneIntersect, EmptySceneHasNoHits) {
 
 // ---------------------------------------------------------------------------------------------
 // Large meshes: the parallel build path
+
+// A mesh's wide BVH and groups: every triangle of the mesh in exactly one group of one leaf, with
+// its exact corners, inside the leaf's box; groups within their limits.
+void check_mesh_shape(const MeshShape& shape, const TriangleMesh& mesh) {
+    EXPECT_EQ(shape.triangle_count, mesh.triangle_count());
+    EXPECT_TRUE(shape.mesh.positions.empty() && shape.mesh.indices.empty()) << "the mesh should be dropped";
+    std::vector<int> seen(mesh.triangle_count(), 0);
+    ASSERT_FALSE(shape.bvh.empty());
+    for (const WideBvhNode& node : shape.bvh.nodes)
+        for (uint32_t slot = 0; slot < node.child_count; ++slot) {
+            if (!is_wide_leaf(node.child[slot])) continue;
+            const Bounds3f box = child_bounds(node, slot);
+            const GroupBlock* group = &shape.groups[node.child[slot] & kWidePayloadMask];
+            for (;; group = next_group(group)) {
+                expect_group_of(group, mesh, seen);
+                for (uint32_t lane = 0; lane < group_triangle_count(group); ++lane) {
+                    const GroupTriangle tri = group_triangle(group, lane);
+                    Bounds3f b;
+                    for (const Vec3f& p : {tri.p0, tri.p1, tri.p2}) b.grow(p);
+                    EXPECT_TRUE(contains(box, b)) << "triangle " << tri.id << " outside its leaf";
+                }
+                if (group_ends_leaf(group)) break;
+            }
+        }
+    for (size_t i = 0; i < seen.size(); ++i) ASSERT_EQ(seen[i], 1) << "triangle " << i << " is in " << seen[i] << " groups";
+}
 
 bool same_nodes(const Bvh& a, const Bvh& b) {
     if (a.nodes.size() != b.nodes.size() || a.prim_order != b.prim_order) return false;
@@ -809,30 +687,27 @@ TEST(BvhTraversal, LargeMeshBuiltInParallelMatchesBruteForce) {
     std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
     const TriangleMesh mesh = soup(rng, 40000, 20, 1.5f);
     const Scene scene = scene_of_mesh(mesh, 4);
+    const Checked checked_scene(scene);
     const Scene serial = scene_of_mesh(mesh, 1);
     ASSERT_EQ(scene.meshes.size(), 1u);
-    EXPECT_TRUE(same_nodes(scene.meshes[0].bvh, serial.meshes[0].bvh));
-    // leaf_triangles[i] is the mesh triangle prim_order[i].
     const MeshShape& shape = scene.meshes[0];
-    ASSERT_EQ(shape.leaf_triangles.size(), mesh.triangle_count());
-    for (size_t i = 0; i < shape.leaf_triangles.size(); ++i) {
-        const uint32_t id = shape.bvh.prim_order[i];
-        ASSERT_EQ(shape.leaf_triangles[i].p0, corner(mesh, id, 0));
-        ASSERT_EQ(shape.leaf_triangles[i].p1, corner(mesh, id, 1));
-        ASSERT_EQ(shape.leaf_triangles[i].p2, corner(mesh, id, 2));
+    const MeshShape& serial_shape = serial.meshes[0];
+    ASSERT_EQ(shape.bvh.nodes.size(), serial_shape.bvh.nodes.size());
+    for (size_t i = 0; i < shape.bvh.nodes.size(); ++i) {
+        const WideBvhNode &a = shape.bvh.nodes[i], &b = serial_shape.bvh.nodes[i];
+        ASSERT_TRUE(std::memcmp(a.bounds, b.bounds, sizeof a.bounds) == 0 &&
+                    std::memcmp(a.child, b.child, sizeof a.child) == 0 && a.child_count == b.child_count)
+            << "node " << i << " differs between 4 threads and 1";
     }
-    std::vector<BvhPrimitive> prims(mesh.triangle_count());
-    for (uint32_t i = 0; i < prims.size(); ++i) {
-        for (int k = 0; k < 3; ++k) prims[i].bounds.grow(corner(mesh, i, k));
-        prims[i].id = i;
-    }
-    check_tree(shape.bvh, prims, BvhBuildOptions{}.max_leaf_size);
+    ASSERT_EQ(shape.groups.size(), serial_shape.groups.size());
+    EXPECT_EQ(std::memcmp(shape.groups.data(), serial_shape.groups.data(), shape.groups.size() * sizeof(GroupBlock)), 0);
+    check_mesh_shape(shape, mesh);
     int hits = 0;
     for (int r = 0; r < 300; ++r) {
         const Vec3f origin{u(rng) * 25, u(rng) * 25, u(rng) * 25};
         const Vec3f direction = r % 2 ? shared_point(mesh, rng) - origin : Vec3f{u(rng), u(rng), u(rng)};
         Hit hit;
-        if (!expect_same_as_brute_force(scene, {origin, direction}, 0, &hit)) return;
+        if (!expect_same_as_brute_force(checked_scene, {origin, direction}, 0, &hit)) return;
         hits += hit.is_hit();
     }
     EXPECT_GT(hits, 150);

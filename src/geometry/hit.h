@@ -16,9 +16,9 @@ struct Hit {
     uint32_t object = kNoObject;  ///< the object's place in the scene file (its order)
     uint32_t prim = 0;          ///< the triangle's index in its mesh; a surface of revolution's piece;
                                 ///< 0 for other shapes
-    /// A mesh triangle's place in its mesh's leaf order (MeshShape::leaf_triangles), where
-    /// surface_at finds its corners next to those just tested rather than through the index
-    /// list (two more cache misses per pixel on a big mesh). 0 for other shapes.
+    /// Where a mesh keeps the triangle: the first block of its group (MeshShape::groups), in
+    /// which surface_at finds its corners next to those just tested (the mesh keeps no other
+    /// copy of them). 0 for other shapes.
     uint32_t leaf = 0;
 
     bool is_hit() const { return object != kNoObject; }

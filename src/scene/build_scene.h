@@ -18,7 +18,8 @@ struct SceneBuildOptions {
 /// be rendered: no camera or image size, a transform that cannot be inverted.
 Scene build_scene(SceneDesc desc, const SceneBuildOptions& options);
 
-/// Builds a mesh's BVH and its leaf-ordered triangles (exposed for tests and benchmarks).
+/// Builds a mesh's wide BVH and its triangle groups, then drops its positions and index list
+/// (exposed for tests and benchmarks).
 MeshShape build_mesh_shape(TriangleMesh mesh, int threads);
 
 }  // namespace raycast

@@ -216,7 +216,7 @@ TEST(BuildSceneTest, MeshUsedByTwoTransformsIsStoredOnce) {
     desc.meshes.push_back({"unused.obj", cube_mesh()});  // never referenced: never built
     const Scene scene = build_scene(std::move(desc), {});
     ASSERT_EQ(scene.meshes.size(), 1u);
-    EXPECT_EQ(scene.meshes[0].mesh.triangle_count(), 12u);
+    EXPECT_EQ(scene.meshes[0].triangle_count, 12u);
     ASSERT_EQ(scene.instances.size(), 3u);
     for (const Instance& inst : scene.instances) {
         EXPECT_EQ(inst.kind, ShapeKind::Mesh);
@@ -251,8 +251,8 @@ TEST(BuildSceneTest, TwoDifferentMeshesAreStoredSeparately) {
     const Scene scene = build_scene(std::move(desc), {});
     ASSERT_EQ(scene.meshes.size(), 2u);
     // Meshes are stored in the order they are first used.
-    EXPECT_EQ(scene.meshes[scene.instances[0].shape].mesh.triangle_count(), 1u);
-    EXPECT_EQ(scene.meshes[scene.instances[1].shape].mesh.triangle_count(), 12u);
+    EXPECT_EQ(scene.meshes[scene.instances[0].shape].triangle_count, 1u);
+    EXPECT_EQ(scene.meshes[scene.instances[1].shape].triangle_count, 12u);
 }
 
 const char* const kSingularMessage =

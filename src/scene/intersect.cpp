@@ -3,12 +3,18 @@
 #include <cmath>
 
 #include "geometry/triangle.h"
-#include "scene/packet_view.h"
+#include "scene/intersect_packet.h"
 #include "scene/scene.h"
 
 namespace raycast {
 
 namespace {
+
+// The kernel of the widest instruction set this CPU runs, chosen once.
+const MeshRayKernel& best_mesh_ray_kernel() {
+    static const MeshRayKernel& kernel = mesh_ray_kernel(best_packet_isa());
+    return kernel;
+}
 
 // Offers a candidate hit; keeps it if it beats the current best.
 inline void offer(Hit& best, float t, float u, float v, uint32_t object, uint32_t prim, uint32_t leaf = 0) {
@@ -25,28 +31,12 @@ struct Query {
 
     // Returns true when an any-hit query has its answer.
     bool mesh(const MeshShape& shape, const Ray& ray, uint32_t object) {
-        const WatertightRay tri_ray = make_watertight_ray(ray);
-        const BoxRay box_ray = make_box_ray(ray, t_min);
-        const LeafTriangle* triangles = shape.leaf_triangles.data();
-        const uint32_t* ids = shape.bvh.prim_order.data();
-        // Leaf ranges index both arrays (traverse_bvh checks them against prim_order).
-        RAYCAST_DCHECK(shape.leaf_triangles.size() == shape.bvh.prim_order.size());
-        return traverse_bvh(
-            shape.bvh, box_ray, [&] { return kAnyHit ? t_max : best.t; },
-            [&](uint32_t first, uint32_t count) {
-                for (uint32_t i = first; i < first + count; ++i) {
-                    TriangleHit hit;
-                    const LeafTriangle& tri = triangles[i];
-                    if (!intersect_triangle(tri_ray, tri.p0, tri.p1, tri.p2, t_min, hit)) continue;
-                    if (kAnyHit) {
-                        if (hit.t < t_max) return true;
-                    } else {
-                        offer(best, hit.t, hit.u, hit.v, object, ids[i], i);
-                    }
-                }
-                return false;
-            },
-            counters ? &counters->nodes_visited : nullptr);
+        if (shape.bvh.empty()) return false;
+        const MeshView view{shape.bvh.nodes.data(), shape.groups.data()};
+        const MeshRayKernel& kernel = best_mesh_ray_kernel();
+        if (kAnyHit) return kernel.occluded(view, ray, t_min, t_max);
+        kernel.intersect(view, ray, t_min, object, best, counters ? &counters->nodes_visited : nullptr);
+        return false;
     }
 
     bool instance(uint32_t id, const Ray& world_ray) {
@@ -102,8 +92,16 @@ struct Query {
     bool run(const Ray& ray) {
         for (uint32_t id : scene.plane_instances)
             if (instance(id, ray)) return true;
-        const BoxRay box_ray = make_box_ray(ray, t_min);
         const uint32_t* ids = scene.instance_bvh.prim_order.data();
+        if (scene.instance_bvh.nodes.size() == 1) {
+            // One leaf (a scene of a mesh or two): its box is the union of what the instances
+            // test first thing anyway.
+            const BvhNode& leaf = scene.instance_bvh.nodes[0];
+            for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
+                if (instance(ids[i], ray)) return true;
+            return false;
+        }
+        const BoxRay box_ray = make_box_ray(ray, t_min);
         return traverse_bvh(
             scene.instance_bvh, box_ray, [&] { return kAnyHit ? t_max : best.t; },
             [&](uint32_t first, uint32_t count) {
@@ -154,8 +152,11 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
         case ShapeKind::Mesh: {
             const MeshShape& shape = scene.meshes[inst.shape];
             const TriangleMesh& mesh = shape.mesh;
-            RAYCAST_DCHECK(hit.leaf < shape.leaf_triangles.size() && shape.bvh.prim_order[hit.leaf] == hit.prim);
-            const LeafTriangle& corners = shape.leaf_triangles[hit.leaf];
+            RAYCAST_DCHECK(hit.leaf < shape.groups.size());
+            const GroupBlock* group = &shape.groups[hit.leaf];
+            const uint32_t lane = group_lane_of(group, hit.prim);
+            RAYCAST_DCHECK(lane < group_triangle_count(group));
+            const GroupTriangle corners = group_triangle(group, lane);
             normal = triangle_normal(corners.p0, corners.p1, corners.p2);
             surface.geometric_normal = normal;
             if (mesh.has_normals()) {
@@ -184,7 +185,7 @@ size_t Scene::triangle_count() const {
     size_t count = 0;
     for (const Instance& inst : instances) {
         if (inst.kind == ShapeKind::Triangle) ++count;
-        if (inst.kind == ShapeKind::Mesh) count += meshes[inst.shape].mesh.triangle_count();
+        if (inst.kind == ShapeKind::Mesh) count += meshes[inst.shape].triangle_count;
     }
     return count;
 }
@@ -195,6 +196,11 @@ namespace raycast {
 
 void intersect_instance(const Scene& scene, uint32_t id, const Ray& world_ray, float t_min, Hit& hit) {
     Query<false>{scene, t_min, INFINITY, hit, nullptr}.instance(id, world_ray);
+}
+
+bool occluded_instance(const Scene& scene, uint32_t id, const Ray& world_ray, float t_min, float t_max) {
+    Hit unused;
+    return Query<true>{scene, t_min, t_max, unused, nullptr}.instance(id, world_ray);
 }
 
 }  // namespace raycast

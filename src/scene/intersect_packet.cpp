@@ -11,29 +11,29 @@ namespace {
 PacketKernel kernel_for(PacketIsa isa) {
     switch (isa) {
         case PacketIsa::None:
-            return nullptr;
+            return {};
         case PacketIsa::Portable:
-            return &packet_portable::intersect;
+            return {&packet_portable::intersect, &packet_portable::occluded};
         case PacketIsa::Sse2:
 #ifdef RAYCAST_HAVE_SSE2_KERNEL
-            return &packet_sse2::intersect;
+            return {&packet_sse2::intersect, &packet_sse2::occluded};
 #else
-            return nullptr;
+            return {};
 #endif
         case PacketIsa::Avx2:
 #ifdef RAYCAST_HAVE_AVX2_KERNEL
-            return &packet_avx2::intersect;
+            return {&packet_avx2::intersect, &packet_avx2::occluded};
 #else
-            return nullptr;
+            return {};
 #endif
         case PacketIsa::Avx512:
 #ifdef RAYCAST_HAVE_AVX512_KERNEL
-            return &packet_avx512::intersect;
+            return {&packet_avx512::intersect, &packet_avx512::occluded};
 #else
-            return nullptr;
+            return {};
 #endif
     }
-    return nullptr;
+    return {};
 }
 
 bool cpu_runs(PacketIsa isa) {
@@ -76,7 +76,22 @@ bool packet_isa_from_name(const char* name, PacketIsa& isa) {
 }
 
 bool packet_isa_available(PacketIsa isa) {
-    return isa == PacketIsa::None || (kernel_for(isa) != nullptr && cpu_runs(isa));
+    return isa == PacketIsa::None || (kernel_for(isa).intersect != nullptr && cpu_runs(isa));
+}
+
+const MeshRayKernel& mesh_ray_kernel(PacketIsa isa) {
+    RAYCAST_CHECK(packet_isa_available(isa));
+    static const MeshRayKernel portable{&ray_portable::intersect, &ray_portable::occluded, &ray_portable::test_group};
+#ifdef RAYCAST_HAVE_SSE2_KERNEL
+    static const MeshRayKernel sse2{&ray_sse2::intersect, &ray_sse2::occluded, &ray_sse2::test_group};
+    if (isa == PacketIsa::Sse2) return sse2;
+#endif
+#ifdef RAYCAST_HAVE_AVX2_KERNEL
+    // An AVX-512 CPU runs the AVX2 kernel: a node has 8 children, one AVX register per bound.
+    static const MeshRayKernel avx2{&ray_avx2::intersect, &ray_avx2::occluded, &ray_avx2::test_group};
+    if (isa == PacketIsa::Avx2 || isa == PacketIsa::Avx512) return avx2;
+#endif
+    return portable;
 }
 
 PacketIsa best_packet_isa() {
@@ -100,8 +115,7 @@ PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa) : scene_(scene), i
     RAYCAST_CHECK(packet_isa_available(isa));
     meshes_.reserve(scene.meshes.size());
     for (const MeshShape& mesh : scene.meshes)
-        meshes_.push_back({mesh.bvh.nodes.data(), mesh.leaf_triangles.data(), mesh.bvh.prim_order.data(),
-                           static_cast<uint32_t>(mesh.bvh.nodes.size())});
+        meshes_.push_back({mesh.bvh.empty() ? nullptr : mesh.bvh.nodes.data(), mesh.groups.data()});
     view_.scene = &scene;
     view_.instances = scene.instances.data();
     view_.object_from_world = scene.object_from_world.data();
@@ -116,11 +130,20 @@ PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa) : scene_(scene), i
 void PacketTracer::intersect(const Ray* rays, int count, float t_min, Hit* hits) const {
     RAYCAST_DCHECK(count >= 0 && count <= lanes());
     for (int k = 0; k < count; ++k) RAYCAST_DCHECK(!hits[k].is_hit());
-    if (!kernel_) {
+    if (!kernel_.intersect) {
         for (int k = 0; k < count; ++k) raycast::intersect(scene_, rays[k], t_min, hits[k]);
         return;
     }
-    kernel_(view_, rays, count, t_min, hits);
+    kernel_.intersect(view_, rays, count, t_min, hits);
+}
+
+void PacketTracer::occluded(const Ray* rays, int count, float t_min, const float* t_max, bool* blocked) const {
+    RAYCAST_DCHECK(count >= 0 && count <= lanes());
+    if (!kernel_.occluded) {
+        for (int k = 0; k < count; ++k) blocked[k] = raycast::occluded(scene_, rays[k], t_min, t_max[k]);
+        return;
+    }
+    kernel_.occluded(view_, rays, count, t_min, t_max, blocked);
 }
 
 }  // namespace raycast

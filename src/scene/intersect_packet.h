@@ -1,7 +1,8 @@
-// Closest hits for small groups of coherent rays (a block of neighbouring pixels), traced
-// together with SIMD instructions: AVX-512, AVX2, SSE2 or portable C++, chosen at run time
-// for the CPU. The hits are exactly those intersect() finds for each ray alone, so the image
-// never depends on which path ran.
+// Closest hits for small groups of coherent rays (a block of neighbouring pixels), and any hits
+// for groups of shadow rays, traced together with SIMD instructions: AVX-512, AVX2, SSE2 or
+// portable C++, chosen at run time for the CPU. The answers are exactly those intersect() and
+// occluded() give for each ray alone, so the image never depends on which path ran. The same
+// choice of instruction set picks the single-ray mesh kernel that intersect() itself uses.
 #pragma once
 
 #include <vector>
@@ -32,6 +33,9 @@ bool packet_isa_available(PacketIsa isa);
 PacketIsa best_packet_isa();
 /// Rays per packet: 16, 8, 4, or 1 for None.
 int packet_isa_lanes(PacketIsa isa);
+/// The single-ray kernel for meshes of an available instruction set (AVX-512 CPUs run the AVX2
+/// one; None gives the portable one). intersect() and occluded() use best_packet_isa()'s.
+const MeshRayKernel& mesh_ray_kernel(PacketIsa isa);
 
 /// Traces packets of rays through one scene with one instruction set.
 class PacketTracer {
@@ -45,11 +49,17 @@ public:
     /// Closest hits of rays[0..count) with t > t_min; count <= lanes(); hits must start empty.
     void intersect(const Ray* rays, int count, float t_min, Hit* hits) const;
 
+    /// blocked[k] = occluded(scene, rays[k], t_min, t_max[k]) for k < count <= lanes(): whether
+    /// anything lies on ray k with t_min < t < t_max[k]. The rays need not share an origin or a
+    /// direction (shadow rays from a packet's hits towards one light), but coherent ones are
+    /// traced faster.
+    void occluded(const Ray* rays, int count, float t_min, const float* t_max, bool* blocked) const;
+
 private:
     const Scene& scene_;
     PacketIsa isa_;
-    PacketKernel kernel_ = nullptr;
-    std::vector<PacketMeshView> meshes_;
+    PacketKernel kernel_;
+    std::vector<MeshView> meshes_;
     PacketSceneView view_;
 };
 

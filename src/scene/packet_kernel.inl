@@ -1,31 +1,39 @@
 // The packet tracer, written once over the SIMD wrapper of the file that includes it
-// (packet_<isa>.cpp, inside that instruction set's namespace; no include guard, no includes).
+// (packet_<isa>.cpp, inside that instruction set's anonymous namespace, after the wrapper; no
+// include guard).
 //
-// A packet is kLanes rays from neighbouring pixels. It walks each BVH together: a node is
-// entered when any ray's slab test passes, so one box test in SIMD serves every ray. Triangle
-// tests are the watertight test of geometry/triangle.h evaluated in every lane with exactly the
-// same floating-point operations in the same order, so each lane finds bit for bit the hit the
-// single-ray path finds (the results never depend on the path; tests check it).
+// A packet is kLanes rays, from neighbouring pixels or from a packet's hits towards one light. It
+// walks each BVH together: a node is entered when any ray's slab test passes, so one box test in
+// SIMD serves every ray. Meshes have wide BVHs and triangle groups (geometry/triangle_groups.h):
+// a group's vertices are moved into every ray's watertight space once, and each triangle is then
+// tested in every lane with exactly the floating-point operations of intersect_triangle
+// (geometry/triangle.h), in the same order, so each lane finds bit for bit the hit the single-ray
+// path finds (the results never depend on the path; tests check it).
 //
 // Only fields of the shared structs are read here, never their inline functions (see
 // packet_view.h for why).
 
-constexpr float kBoxWiden = 4 * 5.96046448e-08f;  // as in bvh.h's intersect_box
-constexpr float kTiny = 1e-30f;
+#include "scene/kernel_common.inl"
+
 constexpr uint32_t kNoTransformIndex = 0xffffffffu;
 
 struct PacketRays {
     VF ox, oy, oz;
     VF dx, dy, dz;
     VF ix, iy, iz;  // safe inverses of the direction, for slab tests
-    VM live;        // lanes that hold a ray
+    VM live;        // lanes that hold a ray still being traced
+    // For the slab test of lanes that all go the same way along each axis, with t_min >= 0:
+    // the inverses for near and far bounds (kernel_common.inl's kInverseShrink), and the lanes
+    // whose inverse is negative, per axis.
+    VF near_ix, near_iy, near_iz, far_ix, far_iy, far_iz;
+    unsigned negative[3];
 };
 
-// The watertight test's per-ray constants (see make_watertight_ray). The axis permutation must
-// be the same in every live lane; `uniform` says whether it is.
+// The watertight test's per-ray constants (see make_watertight_ray) for the lanes `lanes`, which
+// share one axis permutation.
 struct WatertightPacket {
     int kx = 0, ky = 1, kz = 2;
-    bool uniform = false;
+    VM lanes;
     VF sx, sy, sz;
     VF okx, oky, okz;  // origin components along kx, ky, kz
 };
@@ -40,62 +48,86 @@ struct PacketState {
     VF best_t;  // hits[lane].t in every lane (+inf in dead lanes)
 };
 
-inline float scalar_abs(float x) { return x < 0 ? -x : x; }
+inline VF pick(const VF& x, const VF& y, const VF& z, int axis) { return axis == 0 ? x : (axis == 1 ? y : z); }
 
-inline float safe_inverse_scalar(float d) {
-    const float magnitude = scalar_abs(d);
-    const float safe = magnitude < kTiny ? (d < 0 || (d == 0 && 1 / d < 0) ? -kTiny : kTiny) : d;
-    return 1.0f / safe;
+inline float lane_value(VF v, unsigned lane) {
+    float values[kLanes];
+    store(values, v);
+    return values[lane];
 }
 
-inline VF pick(const VF& x, const VF& y, const VF& z, int axis) { return axis == 0 ? x : (axis == 1 ? y : z); }
-inline float pick(float x, float y, float z, int axis) { return axis == 0 ? x : (axis == 1 ? y : z); }
-
-inline unsigned lowest_lane(unsigned b) { return static_cast<unsigned>(__builtin_ctz(b)); }
+// bvh.h's safe_inverse in every lane (a SIMD division rounds as the scalar one does).
+inline VF safe_inverse_v(VF d) {
+    const VF signed_tiny = select(mask_from_bits(sign_bits(d)), splat(-kTiny), splat(kTiny));
+    return splat(1.0f) / select(vabs(d) < splat(kTiny), signed_tiny, d);
+}
 
 // Fills the inverse directions from the ray components.
 inline void prepare_inverses(PacketRays& r) {
-    float d[3][kLanes], inv[3][kLanes];
-    store(d[0], r.dx);
-    store(d[1], r.dy);
-    store(d[2], r.dz);
-    for (int axis = 0; axis < 3; ++axis)
-        for (int lane = 0; lane < kLanes; ++lane) inv[axis][lane] = safe_inverse_scalar(d[axis][lane]);
-    r.ix = load(inv[0]);
-    r.iy = load(inv[1]);
-    r.iz = load(inv[2]);
+    r.ix = safe_inverse_v(r.dx);
+    r.iy = safe_inverse_v(r.dy);
+    r.iz = safe_inverse_v(r.dz);
+    const VF zero = splat(0.0f);
+    r.negative[0] = bits(r.ix < zero);
+    r.negative[1] = bits(r.iy < zero);
+    r.negative[2] = bits(r.iz < zero);
+    const VF shrink = splat(kInverseShrink), grow = splat(kInverseGrow);
+    r.near_ix = r.ix * shrink;
+    r.near_iy = r.iy * shrink;
+    r.near_iz = r.iz * shrink;
+    r.far_ix = r.ix * grow;
+    r.far_iy = r.iy * grow;
+    r.far_iz = r.iz * grow;
 }
 
-// The same choice as make_watertight_ray, lane by lane, then the shear constants in SIMD.
-inline WatertightPacket make_watertight_packet(const PacketRays& r) {
-    WatertightPacket w;
+// Rays [0, count) as a packet (structure of arrays); dead lanes repeat lane 0 so that they hold no
+// garbage.
+inline PacketRays load_packet(const Ray* rays, int count) {
+    float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
+    for (int lane = 0; lane < kLanes; ++lane) {
+        const Ray& ray = rays[lane < count ? lane : 0];
+        ox[lane] = ray.origin.x;
+        oy[lane] = ray.origin.y;
+        oz[lane] = ray.origin.z;
+        dx[lane] = ray.direction.x;
+        dy[lane] = ray.direction.y;
+        dz[lane] = ray.direction.z;
+    }
+    PacketRays r;
+    r.ox = load(ox);
+    r.oy = load(oy);
+    r.oz = load(oz);
+    r.dx = load(dx);
+    r.dy = load(dy);
+    r.dz = load(dz);
+    r.live = mask_from_bits((1u << count) - 1);
+    prepare_inverses(r);
+    return r;
+}
+
+// make_watertight_ray's choice of axes, lane by lane, for the lowest of `lanes`; the result
+// covers every lane of `lanes` that makes the same choice, and its shear constants are computed
+// (in SIMD, as make_watertight_ray computes them) in every lane.
+inline WatertightPacket make_watertight_packet(const PacketRays& r, VM lanes) {
     float d[3][kLanes];
     store(d[0], r.dx);
     store(d[1], r.dy);
     store(d[2], r.dz);
-    const unsigned live = bits(r.live);
+    WatertightPacket w;
+    unsigned same = 0;
     bool first = true;
-    for (int lane = 0; lane < kLanes; ++lane) {
-        if (!((live >> lane) & 1u)) continue;
-        const float ax = scalar_abs(d[0][lane]), ay = scalar_abs(d[1][lane]), az = scalar_abs(d[2][lane]);
-        const int kz = ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
-        int kx = kz == 2 ? 0 : kz + 1;
-        int ky = kx == 2 ? 0 : kx + 1;
-        if (d[kz][lane] < 0) {
-            const int swap = kx;
-            kx = ky;
-            ky = swap;
-        }
+    for (unsigned b = bits(lanes); b; b &= b - 1) {
+        const unsigned lane = lowest_bit(b);
+        const WatertightAxes axes = watertight_axes(d[0][lane], d[1][lane], d[2][lane]);
         if (first) {
-            w.kx = kx;
-            w.ky = ky;
-            w.kz = kz;
+            w.kx = axes.kx;
+            w.ky = axes.ky;
+            w.kz = axes.kz;
             first = false;
-        } else if (kx != w.kx || ky != w.ky || kz != w.kz) {
-            return w;  // not uniform
         }
+        if (axes.kx == w.kx && axes.ky == w.ky && axes.kz == w.kz) same |= 1u << lane;
     }
-    w.uniform = true;
+    w.lanes = mask_from_bits(same);
     const VF dkz = pick(r.dx, r.dy, r.dz, w.kz);
     w.sx = pick(r.dx, r.dy, r.dz, w.kx) / dkz;
     w.sy = pick(r.dx, r.dy, r.dz, w.ky) / dkz;
@@ -109,11 +141,11 @@ inline WatertightPacket make_watertight_packet(const PacketRays& r) {
 inline VF cull_distance_v(VF t_best) { return t_best + vabs(t_best) * splat(1.0f / 1024); }
 
 // The slab test in every lane, widened like intersect_box so that it never misses.
-inline VM box_hits(const BvhNode& node, const PacketRays& r, VF t_min, VF t_cull, VF& t_entry) {
-    const Bounds3f& b = node.bounds;
-    const VF n0 = (splat(b.lower.x) - r.ox) * r.ix, f0 = (splat(b.upper.x) - r.ox) * r.ix;
-    const VF n1 = (splat(b.lower.y) - r.oy) * r.iy, f1 = (splat(b.upper.y) - r.oy) * r.iy;
-    const VF n2 = (splat(b.lower.z) - r.oz) * r.iz, f2 = (splat(b.upper.z) - r.oz) * r.iz;
+inline VM box_hits(float lx, float ly, float lz, float ux, float uy, float uz, const PacketRays& r, VF t_min,
+                   VF t_cull, VF& t_entry) {
+    const VF n0 = (splat(lx) - r.ox) * r.ix, f0 = (splat(ux) - r.ox) * r.ix;
+    const VF n1 = (splat(ly) - r.oy) * r.iy, f1 = (splat(uy) - r.oy) * r.iy;
+    const VF n2 = (splat(lz) - r.oz) * r.iz, f2 = (splat(uz) - r.oz) * r.iz;
     const VF near = vmax(vmax(vmin(n0, f0), vmin(n1, f1)), vmin(n2, f2));
     const VF far = vmin(vmin(vmax(n0, f0), vmax(n1, f1)), vmax(n2, f2));
     const VF widen = splat(kBoxWiden);
@@ -123,37 +155,74 @@ inline VM box_hits(const BvhNode& node, const PacketRays& r, VF t_min, VF t_cull
     return (t0 <= t1) & r.live;
 }
 
-inline float lane_value(VF v, unsigned lane) {
-    float values[kLanes];
-    store(values, v);
-    return values[lane];
+inline VM node_hits(const BvhNode& node, const PacketRays& r, VF t_min, VF t_cull, VF& t_entry) {
+    const Bounds3f& b = node.bounds;
+    return box_hits(b.lower.x, b.lower.y, b.lower.z, b.upper.x, b.upper.y, b.upper.z, r, t_min, t_cull, t_entry);
 }
 
-// Walks a BVH with the packet; visit_leaf(first, count, lanes) is called for every leaf that
-// some live ray's box test reaches. best_t is re-read after every leaf.
-template <typename LeafFn>
-inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF& t_min, const VF& best_t,
+// Which bound of each axis is near for every live lane (0: lower, 1: upper), when the lanes agree.
+struct SameOctant {
+    int near[3];
+};
+
+// Whether the live lanes all go the same way along each axis (so do coherent rays, nearly always).
+inline bool same_octant(const PacketRays& r, SameOctant& octant) {
+    const unsigned live = bits(r.live);
+    for (int axis = 0; axis < 3; ++axis) {
+        const unsigned negative = r.negative[axis] & live;
+        if (negative != 0 && negative != live) return false;
+        octant.near[axis] = negative != 0 ? 1 : 0;
+    }
+    return true;
+}
+
+// The slab test of a child; with kSameOctant (t_min >= 0 and one octant: see PacketRays), the
+// single-ray kernel's: near and far bounds picked once, no widening left to do.
+template <bool kSameOctant>
+inline VM child_hits(const WideBvhNode& node, uint32_t slot, const PacketRays& r, const SameOctant& octant, VF t_min,
+                     VF t_cull, VF& t_entry) {
+    if (!kSameOctant)
+        return box_hits(node.bounds[0][0][slot], node.bounds[1][0][slot], node.bounds[2][0][slot], node.bounds[0][1][slot],
+                        node.bounds[1][1][slot], node.bounds[2][1][slot], r, t_min, t_cull, t_entry);
+    const int nx = octant.near[0], ny = octant.near[1], nz = octant.near[2];
+    const VF near_x = (splat(node.bounds[0][nx][slot]) - r.ox) * r.near_ix;
+    const VF near_y = (splat(node.bounds[1][ny][slot]) - r.oy) * r.near_iy;
+    const VF near_z = (splat(node.bounds[2][nz][slot]) - r.oz) * r.near_iz;
+    const VF far_x = (splat(node.bounds[0][1 - nx][slot]) - r.ox) * r.far_ix;
+    const VF far_y = (splat(node.bounds[1][1 - ny][slot]) - r.oy) * r.far_iy;
+    const VF far_z = (splat(node.bounds[2][1 - nz][slot]) - r.oz) * r.far_iz;
+    const VF t0 = vmax(t_min, vmax(vmax(near_x, near_y), near_z));
+    const VF t1 = vmin(t_cull, vmin(vmin(far_x, far_y), far_z));
+    t_entry = t0;
+    return (t0 <= t1) & r.live;
+}
+
+// Walks the (binary) instance BVH with the packet; visit_leaf(first, count, lanes) is called for
+// every leaf that some live ray's box test reaches, and returns true to stop. t_cull() is re-read
+// after every leaf, and so is r.live (a leaf may retire lanes).
+template <typename CullFn, typename LeafFn>
+inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF& t_min, CullFn&& t_cull,
                             LeafFn&& visit_leaf) {
     VF t_entry;
-    VM mask = box_hits(nodes[0], r, t_min, cull_distance_v(best_t), t_entry);
+    VM mask = node_hits(nodes[0], r, t_min, t_cull(), t_entry);
     if (!any(mask)) return;
-    uint32_t stack[128];
+    uint32_t stack[kMaxBvhDepth];
     int stack_size = 0;
     uint32_t current = 0;
     for (;;) {
         const BvhNode& node = nodes[current];
         if (node.count != 0) {
-            visit_leaf(node.first, node.count, mask);
+            if (visit_leaf(node.first, node.count, mask)) return;
         } else {
-            const VF t_cull = cull_distance_v(best_t);
+            const VF cull = t_cull();
             VF t_left, t_right;
-            const VM hit_left = box_hits(nodes[node.first], r, t_min, t_cull, t_left);
-            const VM hit_right = box_hits(nodes[node.first + 1], r, t_min, t_cull, t_right);
+            const VM hit_left = node_hits(nodes[node.first], r, t_min, cull, t_left);
+            const VM hit_right = node_hits(nodes[node.first + 1], r, t_min, cull, t_right);
             const bool any_left = any(hit_left), any_right = any(hit_right);
             if (any_left && any_right) {
                 // Nearer child first, as seen by the first ray that enters both.
                 const VM both = hit_left & hit_right;
-                const unsigned lane = lowest_lane(any(both) ? bits(both) : bits(hit_left));
+                const unsigned lane = lowest_bit(any(both) ? bits(both) : bits(hit_left));
                 const bool left_first = lane_value(t_left, lane) <= lane_value(t_right, lane);
                 // At most one entry per level above the node: the builder keeps trees within
                 // kMaxBvhDepth levels (build_bvh.cpp), the size of this stack.
@@ -174,10 +243,87 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
         for (;;) {
             if (stack_size == 0) return;
             current = stack[--stack_size];
-            mask = box_hits(nodes[current], r, t_min, cull_distance_v(best_t), t_entry);
+            mask = node_hits(nodes[current], r, t_min, t_cull(), t_entry);
             if (any(mask)) break;
         }
     }
+}
+
+// Walks a mesh's wide BVH with the packet: every child box of a node is tested in every lane,
+// the children some lane enters are visited nearest first (as the first lane that enters any of
+// them sees it), and the others wait on the stack as (node, slot), their box tested again when
+// popped. visit_leaf(payload) returns true to stop; t_cull() and r.live are re-read after it.
+template <bool kSameOctant, typename CullFn, typename LeafFn>
+inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, const SameOctant& octant,
+                                 const VF& t_min, CullFn&& t_cull, LeafFn&& visit_leaf) {
+    struct Pending {
+        uint32_t node, slot;
+    };
+    Pending stack[kWideStackSize];
+    int stack_size = 0;
+    uint32_t ref = 0;  // the root node
+    for (;;) {
+        if ((ref & kWideLeafFlag) == 0) {
+            const WideBvhNode& node = nodes[ref];
+            const VF cull = t_cull();
+            VM entered[kWideBvhWidth];
+            VF t_entry[kWideBvhWidth];
+            unsigned slots = 0, lanes = 0;
+            for (uint32_t slot = 0; slot < node.child_count; ++slot) {
+                entered[slot] = child_hits<kSameOctant>(node, slot, r, octant, t_min, cull, t_entry[slot]);
+                if (!any(entered[slot])) continue;
+                slots |= 1u << slot;
+                lanes |= bits(entered[slot]);
+            }
+            if (slots != 0) {
+                // Farthest first as the first entering lane sees them (children it misses last).
+                const unsigned lane = lowest_bit(lanes);
+                uint32_t order[kWideBvhWidth];
+                float key[kWideBvhWidth];
+                int count = 0;
+                for (unsigned b = slots; b; b &= b - 1) {
+                    const uint32_t slot = lowest_bit(b);
+                    const float t = (bits(entered[slot]) >> lane) & 1u ? lane_value(t_entry[slot], lane) : __builtin_inff();
+                    int i = count++;
+                    for (; i > 0 && key[i - 1] < t; --i) {
+                        key[i] = key[i - 1];
+                        order[i] = order[i - 1];
+                    }
+                    key[i] = t;
+                    order[i] = slot;
+                }
+                // At most kWideBvhWidth - 1 entries per level above the node (kWideStackSize).
+                RAYCAST_DCHECK(stack_size + count - 1 <= kWideStackSize);
+                for (int i = 0; i + 1 < count; ++i) stack[stack_size++] = {ref, order[i]};
+                ref = node.child[order[count - 1]];
+                continue;
+            }
+        } else if (visit_leaf(ref & kWidePayloadMask)) {
+            return;
+        }
+        for (;;) {
+            if (stack_size == 0) return;
+            const Pending next = stack[--stack_size];
+            const WideBvhNode& parent = nodes[next.node];
+            VF t_entry;
+            if (any(child_hits<kSameOctant>(parent, next.slot, r, octant, t_min, t_cull(), t_entry))) {
+                ref = parent.child[next.slot];
+                break;
+            }
+        }
+    }
+}
+
+// traverse_packet_wide with the fastest slab test the packet allows.
+template <typename CullFn, typename LeafFn>
+inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, float t_min, CullFn&& t_cull,
+                                 LeafFn&& visit_leaf) {
+    SameOctant octant;
+    const VF t_min_v = splat(t_min);
+    if (t_min >= 0 && same_octant(r, octant))
+        traverse_packet_wide<true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+    else
+        traverse_packet_wide<false>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
 }
 
 // Offers each lane in `candidates` the hit (t, u, v) on (object, prim); keeps the closer, with
@@ -188,7 +334,7 @@ inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t obje
     if (any(ties)) {
         unsigned extra = 0;
         for (unsigned b = bits(ties); b; b &= b - 1) {
-            const unsigned lane = lowest_lane(b);
+            const unsigned lane = lowest_bit(b);
             const Hit& best = s.hits[lane];
             if (object != best.object ? object < best.object : prim < best.prim) extra |= 1u << lane;
         }
@@ -201,7 +347,7 @@ inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t obje
     store(us, u);
     store(vs, v);
     for (unsigned b = bits(closer); b; b &= b - 1) {
-        const unsigned lane = lowest_lane(b);
+        const unsigned lane = lowest_bit(b);
         Hit& hit = s.hits[lane];
         hit.t = ts[lane];
         hit.u = us[lane];
@@ -213,39 +359,55 @@ inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t obje
     s.best_t = select(closer, t, s.best_t);
 }
 
-// The watertight test of intersect_triangle, term for term, in every lane.
-inline void intersect_triangle_packet(PacketState& s, const WatertightPacket& w, const VM& live,
-                                      const PacketMeshView& mesh, uint32_t leaf, uint32_t object) {
-    const LeafTriangle& tri = mesh.triangles[leaf];
-    const VF a_kx = splat(pick(tri.p0.x, tri.p0.y, tri.p0.z, w.kx)) - w.okx;
-    const VF a_ky = splat(pick(tri.p0.x, tri.p0.y, tri.p0.z, w.ky)) - w.oky;
-    const VF a_kz = splat(pick(tri.p0.x, tri.p0.y, tri.p0.z, w.kz)) - w.okz;
-    const VF b_kx = splat(pick(tri.p1.x, tri.p1.y, tri.p1.z, w.kx)) - w.okx;
-    const VF b_ky = splat(pick(tri.p1.x, tri.p1.y, tri.p1.z, w.ky)) - w.oky;
-    const VF b_kz = splat(pick(tri.p1.x, tri.p1.y, tri.p1.z, w.kz)) - w.okz;
-    const VF c_kx = splat(pick(tri.p2.x, tri.p2.y, tri.p2.z, w.kx)) - w.okx;
-    const VF c_ky = splat(pick(tri.p2.x, tri.p2.y, tri.p2.z, w.ky)) - w.oky;
-    const VF c_kz = splat(pick(tri.p2.x, tri.p2.y, tri.p2.z, w.kz)) - w.okz;
-    const VF ax = a_kx - w.sx * a_kz, ay = a_ky - w.sy * a_kz;
-    const VF bx = b_kx - w.sx * b_kz, by = b_ky - w.sy * b_kz;
-    const VF cx = c_kx - w.sx * c_kz, cy = c_ky - w.sy * c_kz;
+// A group's vertices in every ray's sheared space: what intersect_triangle computes for each
+// corner (ax, ay, az and so on), once per vertex instead of once per corner.
+struct ShearedVertices {
+    VF x[kGroupMaxVertices], y[kGroupMaxVertices], z[kGroupMaxVertices];
+};
+
+inline void shear_vertices(const unsigned char* group, const WatertightPacket& w, ShearedVertices& out) {
+    const uint32_t k = group[0], v = group[1];
+    const unsigned char* planes = group + group_vertices_offset(k);
+    for (uint32_t j = 0; j < v; ++j) {
+        const VF a_kx = splat(group_float(planes + 4 * (static_cast<uint32_t>(w.kx) * v + j))) - w.okx;
+        const VF a_ky = splat(group_float(planes + 4 * (static_cast<uint32_t>(w.ky) * v + j))) - w.oky;
+        const VF a_kz = splat(group_float(planes + 4 * (static_cast<uint32_t>(w.kz) * v + j))) - w.okz;
+        out.x[j] = a_kx - w.sx * a_kz;
+        out.y[j] = a_ky - w.sy * a_kz;
+        out.z[j] = w.sz * a_kz;
+    }
+}
+
+// The watertight test of intersect_triangle, term for term, in every lane, for triangle `lane`
+// of a group whose vertices are sheared. Returns the lanes (of `live`) that hit with t > t_min.
+struct TriangleLanes {
+    VM hit;
+    VF t, u1, u2, det;
+};
+
+inline TriangleLanes test_triangle_packet(const unsigned char* group, uint32_t lane, const ShearedVertices& sv,
+                                          VM live, VF t_min) {
+    const uint32_t k = group[0];
+    const unsigned char* corners = group + group_corners_offset();
+    const uint32_t i0 = corners[lane], i1 = corners[k + lane], i2 = corners[2 * k + lane];
+    const VF ax = sv.x[i0], ay = sv.y[i0], az = sv.z[i0];
+    const VF bx = sv.x[i1], by = sv.y[i1], bz = sv.z[i1];
+    const VF cx = sv.x[i2], cy = sv.y[i2], cz = sv.z[i2];
+    TriangleLanes h;
     const VF u0 = cx * by - cy * bx;
-    const VF u1 = ax * cy - ay * cx;
-    const VF u2 = bx * ay - by * ax;
+    h.u1 = ax * cy - ay * cx;
+    h.u2 = bx * ay - by * ax;
     const VF zero = splat(0.0f);
-    const VM negative = (u0 < zero) | (u1 < zero) | (u2 < zero);
-    const VM positive = (u0 > zero) | (u1 > zero) | (u2 > zero);
-    VM valid = andnot(live, negative & positive);
-    if (!any(valid)) return;
-    const VF det = u0 + u1 + u2;
-    valid = valid & (det != zero);
-    if (!any(valid)) return;
-    const VF az = w.sz * a_kz, bz = w.sz * b_kz, cz = w.sz * c_kz;
-    const VF t = (u0 * az + u1 * bz + u2 * cz) / det;
-    valid = valid & (t > s.t_min_v);
-    if (!any(valid)) return;
-    // The triangle's id is read only for a hit: another array, and mostly another cache line.
-    offer(s, valid, t, u1 / det, u2 / det, object, mesh.prim_ids[leaf], leaf);
+    const VM negative = (u0 < zero) | (h.u1 < zero) | (h.u2 < zero);
+    const VM positive = (u0 > zero) | (h.u1 > zero) | (h.u2 > zero);
+    h.hit = andnot(live, negative & positive);
+    if (!any(h.hit)) return h;
+    h.det = u0 + h.u1 + h.u2;
+    h.hit = h.hit & (h.det != zero);
+    if (!any(h.hit)) return h;
+    h.t = (u0 * az + h.u1 * bz + h.u2 * cz) / h.det;
+    h.hit = h.hit & (h.t > t_min);
+    return h;
 }
 
 inline void refresh_best(PacketState& s) {
@@ -258,19 +420,58 @@ inline void refresh_best(PacketState& s) {
 inline void intersect_instance_lanes(PacketState& s, uint32_t id, VM lanes) {
     RAYCAST_DCHECK((bits(lanes) >> s.count) == 0);
     for (unsigned b = bits(lanes); b; b &= b - 1) {
-        const unsigned lane = lowest_lane(b);
+        const unsigned lane = lowest_bit(b);
         intersect_instance(*s.view.scene, id, s.rays[lane], s.t_min, s.hits[lane]);
     }
     refresh_best(s);
 }
 
-inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w,
-                                  const PacketMeshView& mesh, uint32_t object) {
-    if (mesh.node_count == 0) return;
-    traverse_packet(mesh.nodes, r, s.t_min_v, s.best_t, [&](uint32_t first, uint32_t count, VM) {
-        for (uint32_t i = first; i < first + count; ++i)
-            intersect_triangle_packet(s, w, r.live, mesh, i, object);
-    });
+// Closest hits of the rays of r.live, which share w's permutation, with one mesh.
+inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w, const MeshView& mesh,
+                                  uint32_t object) {
+    ShearedVertices sheared;
+    traverse_packet_wide(
+        mesh.nodes, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
+        [&](uint32_t first_block) {
+            for (uint32_t block = first_block;;) {
+                const unsigned char* group = mesh.groups[block].bytes;
+                shear_vertices(group, w, sheared);
+                for (uint32_t lane = 0; lane < group[0]; ++lane) {
+                    const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, s.t_min_v);
+                    // The triangle's id is read only for a hit: the last part of the group.
+                    if (any(h.hit)) offer(s, h.hit, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block);
+                }
+                if (group[2] & kGroupEndsLeaf) return false;
+                block += group_blocks(group[0], group[1]);
+            }
+        });
+}
+
+// Any hits nearer than t_max of the rays of r.live, which share w's permutation, with one mesh:
+// each blocked ray is marked and leaves r.live.
+inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const MeshView& mesh, float t_min, VF t_max,
+                                 VF t_cull, bool* blocked) {
+    ShearedVertices sheared;
+    const VF t_min_v = splat(t_min);
+    traverse_packet_wide(
+        mesh.nodes, r, t_min, [&] { return t_cull; },
+        [&](uint32_t first_block) {
+            for (uint32_t block = first_block;;) {
+                const unsigned char* group = mesh.groups[block].bytes;
+                shear_vertices(group, w, sheared);
+                for (uint32_t lane = 0; lane < group[0]; ++lane) {
+                    const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, t_min_v);
+                    if (!any(h.hit)) continue;
+                    const VM now_blocked = h.hit & (h.t < t_max);
+                    if (!any(now_blocked)) continue;
+                    for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
+                    r.live = andnot(r.live, now_blocked);
+                    if (!any(r.live)) return true;
+                }
+                if (group[2] & kGroupEndsLeaf) return false;
+                block += group_blocks(group[0], group[1]);
+            }
+        });
 }
 
 // Moves the packet into an instance's object space as to_object_space does, operation for
@@ -288,30 +489,34 @@ inline PacketRays transform_packet(const PacketRays& r, const Mat4& m) {
     return o;
 }
 
+// Whether a packet's live rays go the same way along every axis. Such rays (primary rays, shadow
+// rays towards one light) share most of their way through a BVH; rays that scatter (ambient
+// occlusion, rays from many surfaces) part at once, and each is faster alone, through the
+// single-ray kernel, than in a packet that tests every box for every lane.
+inline bool coherent(const PacketRays& r) {
+    SameOctant octant;
+    return same_octant(r, octant);
+}
+
+// Calls trace(rays, w) for each set of the live rays that share a watertight axis permutation
+// (usually one set: the rays of a packet point the same way), with rays.live narrowed to it.
+template <typename TraceFn>
+inline void for_each_permutation(const PacketRays& r, TraceFn&& trace) {
+    VM remaining = r.live;
+    while (any(remaining)) {
+        const WatertightPacket w = make_watertight_packet(r, remaining);
+        PacketRays subset = r;
+        subset.live = w.lanes;
+        trace(subset, w);
+        remaining = andnot(remaining, w.lanes);
+    }
+}
+
 inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) {
     // Dead lanes copy lane 0, and the live mask is (1 << count) - 1.
     RAYCAST_DCHECK(count >= 1 && count <= kLanes);
     PacketState s{view, rays, hits, count, t_min, splat(t_min), splat(0.0f)};
-    // Structure of arrays; dead lanes repeat lane 0 so that they hold no garbage.
-    float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
-    for (int lane = 0; lane < kLanes; ++lane) {
-        const Ray& ray = rays[lane < count ? lane : 0];
-        ox[lane] = ray.origin.x;
-        oy[lane] = ray.origin.y;
-        oz[lane] = ray.origin.z;
-        dx[lane] = ray.direction.x;
-        dy[lane] = ray.direction.y;
-        dz[lane] = ray.direction.z;
-    }
-    PacketRays r;
-    r.ox = load(ox);
-    r.oy = load(oy);
-    r.oz = load(oz);
-    r.dx = load(dx);
-    r.dy = load(dy);
-    r.dz = load(dz);
-    r.live = mask_from_bits((1u << count) - 1);
-    prepare_inverses(r);
+    const PacketRays r = load_packet(rays, count);
     refresh_best(s);
 
     // Planes are unbounded and few: the scalar code tests them, as the single-ray path does.
@@ -321,34 +526,80 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
     if (view.plane_count > 0) refresh_best(s);
     if (view.instance_node_count == 0) return;
 
-    bool have_world_watertight = false;
-    WatertightPacket world_watertight;
-    traverse_packet(view.instance_nodes, r, s.t_min_v, s.best_t, [&](uint32_t first, uint32_t n, VM lanes) {
+    traverse_packet(
+        view.instance_nodes, r, s.t_min_v, [&] { return cull_distance_v(s.best_t); },
+        [&](uint32_t first, uint32_t n, VM lanes) {
+            for (uint32_t i = first; i < first + n; ++i) {
+                const uint32_t id = view.instance_ids[i];
+                const Instance& instance = view.instances[id];
+                if (instance.kind != ShapeKind::Mesh) {
+                    intersect_instance_lanes(s, id, lanes);
+                    continue;
+                }
+                const MeshView& mesh = view.meshes[instance.shape];
+                if (!mesh.nodes) continue;
+                const PacketRays local = instance.transform == kNoTransformIndex
+                                             ? r
+                                             : transform_packet(r, view.object_from_world[instance.transform]);
+                if (!coherent(local)) {
+                    intersect_instance_lanes(s, id, lanes);
+                    continue;
+                }
+                for_each_permutation(local, [&](const PacketRays& subset, const WatertightPacket& w) {
+                    intersect_mesh_packet(s, subset, w, mesh, id);
+                });
+            }
+            return false;
+        });
+}
+
+inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, int count, float t_min,
+                                  const float* t_max, bool* blocked) {
+    RAYCAST_DCHECK(count >= 1 && count <= kLanes);
+    PacketRays r = load_packet(rays, count);
+    float t_max_lanes[kLanes];
+    for (int lane = 0; lane < kLanes; ++lane) t_max_lanes[lane] = lane < count ? t_max[lane] : 0.0f;
+    const VF t_max_v = load(t_max_lanes), t_min_v = splat(t_min);
+    const VF t_cull = cull_distance_v(t_max_v);  // as traverse_bvh culls an any-hit query
+    for (int lane = 0; lane < count; ++lane) blocked[lane] = false;
+
+    // Scalar code for everything but meshes, lane by lane, as in trace_packet.
+    auto occluded_lanes = [&](uint32_t id) {
+        unsigned now_blocked = 0;
+        for (unsigned b = bits(r.live); b; b &= b - 1) {
+            const unsigned lane = lowest_bit(b);
+            if (occluded_instance(*view.scene, id, rays[lane], t_min, t_max[lane])) now_blocked |= 1u << lane;
+        }
+        for (unsigned b = now_blocked; b; b &= b - 1) blocked[lowest_bit(b)] = true;
+        r.live = andnot(r.live, mask_from_bits(now_blocked));
+    };
+    for (uint32_t i = 0; i < view.plane_count && any(r.live); ++i) occluded_lanes(view.plane_instances[i]);
+    if (view.instance_node_count == 0 || !any(r.live)) return;
+
+    traverse_packet(view.instance_nodes, r, t_min_v, [&] { return t_cull; }, [&](uint32_t first, uint32_t n, VM) {
         for (uint32_t i = first; i < first + n; ++i) {
             const uint32_t id = view.instance_ids[i];
             const Instance& instance = view.instances[id];
             if (instance.kind != ShapeKind::Mesh) {
-                intersect_instance_lanes(s, id, lanes);
-                continue;
-            }
-            const PacketMeshView& mesh = view.meshes[instance.shape];
-            if (instance.transform == kNoTransformIndex) {
-                if (!have_world_watertight) {
-                    world_watertight = make_watertight_packet(r);
-                    have_world_watertight = true;
+                occluded_lanes(id);
+            } else if (view.meshes[instance.shape].nodes) {
+                const MeshView& mesh = view.meshes[instance.shape];
+                const PacketRays local = instance.transform == kNoTransformIndex
+                                             ? r
+                                             : transform_packet(r, view.object_from_world[instance.transform]);
+                if (!coherent(local)) {
+                    occluded_lanes(id);
+                    if (!any(r.live)) return true;
+                    continue;
                 }
-                if (world_watertight.uniform)
-                    intersect_mesh_packet(s, r, world_watertight, mesh, id);
-                else
-                    intersect_instance_lanes(s, id, lanes);
-            } else {
-                const PacketRays local = transform_packet(r, view.object_from_world[instance.transform]);
-                const WatertightPacket w = make_watertight_packet(local);
-                if (w.uniform)
-                    intersect_mesh_packet(s, local, w, mesh, id);
-                else
-                    intersect_instance_lanes(s, id, lanes);
+                for_each_permutation(local, [&](const PacketRays& subset, const WatertightPacket& w) {
+                    PacketRays traced = subset;
+                    occluded_mesh_packet(traced, w, mesh, t_min, t_max_v, t_cull, blocked);
+                    r.live = andnot(r.live, andnot(subset.live, traced.live));  // those it blocked
+                });
             }
+            if (!any(r.live)) return true;
         }
+        return false;
     });
 }

@@ -27,6 +27,7 @@ inline VM operator|(VM a, VM b) { return {_mm256_or_ps(a.v, b.v)}; }
 inline VM andnot(VM a, VM b) { return {_mm256_andnot_ps(b.v, a.v)}; }
 inline unsigned bits(VM a) { return static_cast<unsigned>(_mm256_movemask_ps(a.v)); }
 inline bool any(VM a) { return bits(a) != 0; }
+inline unsigned sign_bits(VF a) { return static_cast<unsigned>(_mm256_movemask_ps(a.v)); }
 inline VM mask_from_bits(unsigned b) {
     const __m256i lane_bits = _mm256_set_epi32(128, 64, 32, 16, 8, 4, 2, 1);
     const __m256i selected = _mm256_and_si256(_mm256_set1_epi32(static_cast<int>(b)), lane_bits);

@@ -27,5 +27,8 @@ inline VM operator|(VM a, VM b) { return {static_cast<__mmask16>(a.m | b.m)}; }
 inline VM andnot(VM a, VM b) { return {static_cast<__mmask16>(a.m & ~b.m)}; }
 inline unsigned bits(VM a) { return a.m; }
 inline bool any(VM a) { return a.m != 0; }
+inline unsigned sign_bits(VF a) {
+    return _mm512_cmp_epi32_mask(_mm512_castps_si512(a.v), _mm512_setzero_si512(), _MM_CMPINT_LT);
+}
 inline VM mask_from_bits(unsigned b) { return {static_cast<__mmask16>(b)}; }
 inline VF select(VM m, VF a, VF b) { return {_mm512_mask_blend_ps(m.m, b.v, a.v)}; }

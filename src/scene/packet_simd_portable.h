@@ -1,33 +1,32 @@
 // SIMD wrapper, portable C++: 4 lanes in plain arrays. Included inside a kernel's namespace
-// (no include guard, no includes): see packet_view.h.
-constexpr int kLanes = 4;
-struct VF {
-    float v[kLanes];
+// (no include guard, no includes): see packet_view.h. The operations are written for any width,
+// so that the single-ray kernel's 8-lane wrapper (ray_simd_portable.h) shares them.
+template <int N>
+struct LanesF {
+    float v[N];
 };
-struct VM {
+template <int N>
+struct LanesM {
     unsigned bits;
 };
-inline VF splat(float x) { return {{x, x, x, x}}; }
-inline VF load(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
-inline void store(float* p, VF a) {
-    for (int i = 0; i < kLanes; ++i) p[i] = a.v[i];
-}
-#define RAYCAST_LANEWISE(op)                              \
-    inline VF operator op(VF a, VF b) {                   \
-        VF r;                                             \
-        for (int i = 0; i < kLanes; ++i) r.v[i] = a.v[i] op b.v[i]; \
-        return r;                                         \
+#define RAYCAST_LANEWISE(op)                                    \
+    template <int N>                                            \
+    inline LanesF<N> operator op(LanesF<N> a, LanesF<N> b) {    \
+        LanesF<N> r;                                            \
+        for (int i = 0; i < N; ++i) r.v[i] = a.v[i] op b.v[i];  \
+        return r;                                               \
     }
 RAYCAST_LANEWISE(+)
 RAYCAST_LANEWISE(-)
 RAYCAST_LANEWISE(*)
 RAYCAST_LANEWISE(/)
 #undef RAYCAST_LANEWISE
-#define RAYCAST_COMPARE(op)                                            \
-    inline VM operator op(VF a, VF b) {                                \
-        unsigned m = 0;                                                \
-        for (int i = 0; i < kLanes; ++i) m |= (a.v[i] op b.v[i]) ? 1u << i : 0u; \
-        return {m};                                                    \
+#define RAYCAST_COMPARE(op)                                                      \
+    template <int N>                                                             \
+    inline LanesM<N> operator op(LanesF<N> a, LanesF<N> b) {                     \
+        unsigned m = 0;                                                          \
+        for (int i = 0; i < N; ++i) m |= (a.v[i] op b.v[i]) ? 1u << i : 0u;     \
+        return {m};                                                              \
     }
 RAYCAST_COMPARE(<)
 RAYCAST_COMPARE(<=)
@@ -35,29 +34,53 @@ RAYCAST_COMPARE(>)
 RAYCAST_COMPARE(==)
 RAYCAST_COMPARE(!=)
 #undef RAYCAST_COMPARE
-inline VF vmin(VF a, VF b) {
-    VF r;
-    for (int i = 0; i < kLanes; ++i) r.v[i] = a.v[i] < b.v[i] ? a.v[i] : b.v[i];
+template <int N>
+inline LanesF<N> vmin(LanesF<N> a, LanesF<N> b) {
+    LanesF<N> r;
+    for (int i = 0; i < N; ++i) r.v[i] = a.v[i] < b.v[i] ? a.v[i] : b.v[i];
     return r;
 }
-inline VF vmax(VF a, VF b) {
-    VF r;
-    for (int i = 0; i < kLanes; ++i) r.v[i] = a.v[i] > b.v[i] ? a.v[i] : b.v[i];
+template <int N>
+inline LanesF<N> vmax(LanesF<N> a, LanesF<N> b) {
+    LanesF<N> r;
+    for (int i = 0; i < N; ++i) r.v[i] = a.v[i] > b.v[i] ? a.v[i] : b.v[i];
     return r;
 }
-inline VF vabs(VF a) {
-    VF r;
-    for (int i = 0; i < kLanes; ++i) r.v[i] = a.v[i] < 0 ? -a.v[i] : a.v[i];
+template <int N>
+inline LanesF<N> vabs(LanesF<N> a) {
+    LanesF<N> r;
+    for (int i = 0; i < N; ++i) r.v[i] = a.v[i] < 0 ? -a.v[i] : a.v[i];
     return r;
 }
-inline VM operator&(VM a, VM b) { return {a.bits & b.bits}; }
-inline VM operator|(VM a, VM b) { return {a.bits | b.bits}; }
-inline VM andnot(VM a, VM b) { return {a.bits & ~b.bits}; }
-inline bool any(VM a) { return a.bits != 0; }
-inline unsigned bits(VM a) { return a.bits; }
+template <int N>
+inline void store(float* p, LanesF<N> a) {
+    for (int i = 0; i < N; ++i) p[i] = a.v[i];
+}
+template <int N>
+inline LanesM<N> operator&(LanesM<N> a, LanesM<N> b) { return {a.bits & b.bits}; }
+template <int N>
+inline LanesM<N> operator|(LanesM<N> a, LanesM<N> b) { return {a.bits | b.bits}; }
+template <int N>
+inline LanesM<N> andnot(LanesM<N> a, LanesM<N> b) { return {a.bits & ~b.bits}; }
+template <int N>
+inline bool any(LanesM<N> a) { return a.bits != 0; }
+template <int N>
+inline unsigned bits(LanesM<N> a) { return a.bits; }
+template <int N>
+inline LanesF<N> select(LanesM<N> m, LanesF<N> a, LanesF<N> b) {
+    LanesF<N> r;
+    for (int i = 0; i < N; ++i) r.v[i] = (m.bits >> i) & 1 ? a.v[i] : b.v[i];
+    return r;
+}
+
+constexpr int kLanes = 4;
+using VF = LanesF<kLanes>;
+using VM = LanesM<kLanes>;
+inline VF splat(float x) { return {{x, x, x, x}}; }
+inline VF load(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
 inline VM mask_from_bits(unsigned b) { return {b & ((1u << kLanes) - 1)}; }
-inline VF select(VM m, VF a, VF b) {
-    VF r;
-    for (int i = 0; i < kLanes; ++i) r.v[i] = (m.bits >> i) & 1 ? a.v[i] : b.v[i];
-    return r;
+inline unsigned sign_bits(VF a) {
+    unsigned m = 0;
+    for (int i = 0; i < kLanes; ++i) m |= __builtin_signbit(a.v[i]) ? 1u << i : 0u;
+    return m;
 }

@@ -27,6 +27,7 @@ inline VM operator|(VM a, VM b) { return {_mm_or_ps(a.v, b.v)}; }
 inline VM andnot(VM a, VM b) { return {_mm_andnot_ps(b.v, a.v)}; }
 inline unsigned bits(VM a) { return static_cast<unsigned>(_mm_movemask_ps(a.v)); }
 inline bool any(VM a) { return bits(a) != 0; }
+inline unsigned sign_bits(VF a) { return static_cast<unsigned>(_mm_movemask_ps(a.v)); }
 inline VM mask_from_bits(unsigned b) {
     const __m128i lane_bits = _mm_set_epi32(8, 4, 2, 1);
     const __m128i selected = _mm_and_si128(_mm_set1_epi32(static_cast<int>(b)), lane_bits);

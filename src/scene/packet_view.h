@@ -1,5 +1,6 @@
-// What the SIMD packet kernels see of a scene: plain structs of pointers, built once per render
-// by PacketTracer. The kernels (packet_<isa>.cpp) are compiled with their own instruction-set
+// What the SIMD kernels see of a scene: plain structs of pointers (built once per render by
+// PacketTracer for the packet kernels, per query by intersect.cpp for the single-ray kernels).
+// The kernels (packet_<isa>.cpp, ray_<isa>.cpp) are compiled with their own instruction-set
 // flags, so they must not use inline functions or templates from shared headers: a copy
 // compiled for AVX-512 could otherwise be linked in for everyone. They read these structs'
 // fields and call the plain functions declared here for the work they leave to scalar code.
@@ -7,22 +8,25 @@
 
 #include <cstdint>
 
+#include "bvh/bvh.h"
+#include "bvh/wide_bvh.h"
+#include "geometry/triangle_groups.h"
 #include "scene/scene.h"
 
 namespace raycast {
 
-struct PacketMeshView {
-    const BvhNode* nodes = nullptr;
-    const LeafTriangle* triangles = nullptr;
-    const uint32_t* prim_ids = nullptr;
-    uint32_t node_count = 0;
+/// A mesh as the kernels see it: its wide BVH, whose leaves' payloads are block indices of their
+/// first triangle group in `groups`.
+struct MeshView {
+    const WideBvhNode* nodes = nullptr;  ///< nullptr for a mesh with nothing to hit
+    const GroupBlock* groups = nullptr;
 };
 
 struct PacketSceneView {
     const Scene* scene = nullptr;
     const Instance* instances = nullptr;
     const Mat4* object_from_world = nullptr;
-    const PacketMeshView* meshes = nullptr;
+    const MeshView* meshes = nullptr;
     const BvhNode* instance_nodes = nullptr;
     const uint32_t* instance_ids = nullptr;
     uint32_t instance_node_count = 0;
@@ -30,25 +34,72 @@ struct PacketSceneView {
     uint32_t plane_count = 0;
 };
 
-/// The closest hit of one instance along a world-space ray, merged into `hit` (scalar code,
-/// defined in intersect.cpp): the kernels use it for spheres, single triangles, planes, and
-/// meshes whose rays cannot share one watertight axis permutation.
+/// The closest hit of one instance along a world-space ray, merged into `hit`, and whether one
+/// instance has a hit with t_min < t < t_max (scalar code, defined in intersect.cpp): the packet
+/// kernels use them for spheres, single triangles and planes.
 void intersect_instance(const Scene& scene, uint32_t id, const Ray& world_ray, float t_min, Hit& hit);
+bool occluded_instance(const Scene& scene, uint32_t id, const Ray& world_ray, float t_min, float t_max);
 
-using PacketKernel = void (*)(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits);
+/// A packet kernel: closest hits of a packet, and any hits of a packet with a t_max per ray.
+struct PacketKernel {
+    void (*intersect)(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) = nullptr;
+    void (*occluded)(const PacketSceneView& view, const Ray* rays, int count, float t_min, const float* t_max,
+                     bool* blocked) = nullptr;
+};
 
-// One kernel per instruction set; which exist depends on the compiler and the target.
+/// What one group test found, lane by lane (lane i: the group's triangle i): hits has bit i set
+/// when triangle i is hit at t[i] > t_min with barycentrics u[i], v[i]. Tests compare it with the
+/// scalar test.
+struct GroupLanes {
+    unsigned hits = 0;
+    float t[kGroupMaxTriangles], u[kGroupMaxTriangles], v[kGroupMaxTriangles];
+};
+
+/// A single-ray kernel: one ray, in the mesh's object space, against one mesh (which must have a
+/// BVH: mesh.nodes is not null). Hits count when t > t_min.
+struct MeshRayKernel {
+    /// Merges the mesh's closest hit into `best` (as is_closer orders them; `object` is the
+    /// instance); adds the child boxes it tests to *nodes_visited when that is given.
+    void (*intersect)(const MeshView& mesh, const Ray& ray, float t_min, uint32_t object, Hit& best,
+                      uint64_t* nodes_visited) = nullptr;
+    /// Whether the mesh has a hit with t_min < t < t_max.
+    bool (*occluded)(const MeshView& mesh, const Ray& ray, float t_min, float t_max) = nullptr;
+    /// Tests every triangle of one group, as the other two do.
+    void (*test_group)(const GroupBlock* group, const Ray& ray, float t_min, GroupLanes& lanes) = nullptr;
+};
+
+// One kernel of each kind per instruction set; which exist depends on the compiler and the target.
+#define RAYCAST_DECLARE_PACKET_KERNEL                                                                      \
+    void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits);        \
+    void occluded(const PacketSceneView& view, const Ray* rays, int count, float t_min, const float* t_max, \
+                  bool* blocked);
 namespace packet_portable {
-void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits);
+RAYCAST_DECLARE_PACKET_KERNEL
 }
 namespace packet_sse2 {
-void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits);
+RAYCAST_DECLARE_PACKET_KERNEL
 }
 namespace packet_avx2 {
-void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits);
+RAYCAST_DECLARE_PACKET_KERNEL
 }
 namespace packet_avx512 {
-void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits);
+RAYCAST_DECLARE_PACKET_KERNEL
 }
+#undef RAYCAST_DECLARE_PACKET_KERNEL
+#define RAYCAST_DECLARE_RAY_KERNEL                                                                               \
+    void intersect(const MeshView& mesh, const Ray& ray, float t_min, uint32_t object, Hit& best,                 \
+                   uint64_t* nodes_visited);                                                                      \
+    bool occluded(const MeshView& mesh, const Ray& ray, float t_min, float t_max);                                \
+    void test_group(const GroupBlock* group, const Ray& ray, float t_min, GroupLanes& lanes);
+namespace ray_portable {
+RAYCAST_DECLARE_RAY_KERNEL
+}
+namespace ray_sse2 {
+RAYCAST_DECLARE_RAY_KERNEL
+}
+namespace ray_avx2 {
+RAYCAST_DECLARE_RAY_KERNEL
+}
+#undef RAYCAST_DECLARE_RAY_KERNEL
 
 }  // namespace raycast

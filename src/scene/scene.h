@@ -7,10 +7,12 @@
 #include <vector>
 
 #include "bvh/bvh.h"
+#include "bvh/wide_bvh.h"
 #include "geometry/hit.h"
 #include "geometry/plane.h"
 #include "geometry/rev_surface.h"
 #include "geometry/sphere.h"
+#include "geometry/triangle_groups.h"
 #include "geometry/triangle_mesh.h"
 #include "math/mat4.h"
 #include "scene/camera.h"
@@ -20,17 +22,17 @@
 
 namespace raycast {
 
-/// One triangle as the intersection loop reads it: vertices copied in BVH leaf order.
-struct LeafTriangle {
-    Vec3f p0, p1, p2;
-};
-
-/// A unique mesh with its own BVH, in its object space.
+/// A unique mesh with its own BVH, in its object space. Built, it keeps only what tracing and
+/// shading read: the wide BVH, the triangles packed in groups in leaf order (each group holds its
+/// triangles' corners and ids), and the file's vertex normals. The positions and the index list
+/// are dropped: every triangle's corners are in its group.
 struct MeshShape {
-    TriangleMesh mesh;
-    Bvh bvh;  ///< bvh.prim_order[i] is the mesh triangle stored at leaf_triangles[i]
-    LargeVector<LeafTriangle> leaf_triangles;
+    TriangleMesh mesh;  ///< only `normals` and `normal_indices` are kept (empty without vn)
+    WideBvh bvh;        ///< leaf payloads: the block in `groups` where the leaf's first group
+                        ///< starts; prim_order is dropped (each group holds its triangles' ids)
+    LargeVector<GroupBlock> groups;  ///< followed by kGroupPaddingBlocks of padding
     Bounds3f bounds;
+    size_t triangle_count = 0;  ///< as the file gave them, degenerate ones included
 };
 
 struct TriangleShape {

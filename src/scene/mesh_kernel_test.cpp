@@ -1,0 +1,346 @@
+// Tests for what meshes are traced with: triangle groups (geometry/triangle_groups.h), the
+// single-ray kernels of every instruction set (scene/ray_kernel.inl) and the packet kernels'
+// occlusion query (scene/packet_kernel.inl). Each must give exactly the answers of the scalar
+// code: the same hits bit for bit, so that every path renders the same image.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "geometry/triangle.h"
+#include "geometry/triangle_groups.h"
+#include "scene/build_scene.h"
+#include "scene/intersect_packet.h"
+#include "scene/scene.h"
+#include "scene_builders.h"
+#include "trace_test_support.h"
+
+namespace raycast {
+namespace {
+
+using namespace test;  // tests/scene_builders.h and tests/trace_test_support.h
+
+// Every kernel this CPU runs once: None and Avx512 select the portable and AVX2 ones.
+std::vector<PacketIsa> ray_kernel_isas() {
+    std::vector<PacketIsa> isas;
+    for (PacketIsa isa : {PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2})
+        if (packet_isa_available(isa)) isas.push_back(isa);
+    return isas;
+}
+
+std::vector<PacketIsa> packet_isas() {
+    std::vector<PacketIsa> isas;
+    for (PacketIsa isa : {PacketIsa::None, PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2, PacketIsa::Avx512})
+        if (packet_isa_available(isa)) isas.push_back(isa);
+    return isas;
+}
+
+// Separate triangles (no shared vertices) of mixed sizes, some of them degenerate.
+TriangleMesh soup_mesh(std::mt19937& rng, size_t count, float world) {
+    TriangleMesh mesh = soup(rng, count, world, 2);
+    for (size_t i = 3; i < count; i += 17) {  // collinear corners: zero area
+        const Vec3f a = corner(mesh, i, 0), b = corner(mesh, i, 1);
+        mesh.positions[mesh.indices[3 * i + 2]] = a + (b - a) * 0.5f;
+    }
+    for (size_t i = 5; i < count; i += 23) mesh.positions[mesh.indices[3 * i + 1]] = corner(mesh, i, 0);  // a repeated corner
+    return mesh;
+}
+
+// Rays of every kind towards the triangles `ids` of `mesh`.
+std::vector<Ray> rays_towards(const TriangleMesh& mesh, const std::vector<uint32_t>& ids, std::mt19937& rng, int count) {
+    std::uniform_real_distribution<float> u(-1, 1);
+    std::uniform_int_distribution<size_t> pick(0, ids.size() - 1);
+    std::vector<Ray> rays;
+    for (int r = 0; r < count; ++r) {
+        Ray ray;
+        ray.origin = {u(rng) * 12, u(rng) * 12, u(rng) * 12};
+        const uint32_t target = ids[pick(rng)];
+        ray.direction = (r % 4 == 0 ? (corner(mesh, target, 0) + corner(mesh, target, 1) + corner(mesh, target, 2)) * (1.0f / 3)
+                                    : shared_point_of(mesh, target, rng)) -
+                        ray.origin;
+        if (r % 7 == 1) ray.direction = Vec3f{u(rng), u(rng), u(rng)};
+        if (r % 11 == 2) ray.direction.x = 0;
+        if (r % 13 == 3) ray.direction = {0, 0, r % 2 ? -1.0f : 1.0f};
+        if (r % 19 == 4) ray.direction = ray.direction * 1e-3f;  // not unit length
+        rays.push_back(ray);
+    }
+    return rays;
+}
+
+TEST(TriangleGroups, EveryKernelTestsAGroupBitForBitAsTheScalarTest) {
+    std::mt19937 rng(52);
+    std::uniform_real_distribution<float> u01(0, 1);
+    const TriangleMesh grid = grid_mesh(rng, 12, 0.5f);
+    const TriangleMesh soup = soup_mesh(rng, 60, 4);
+    // Groups of every shape: the grid's (up to 8 triangles, 9-10 vertices: two registers of
+    // vertices), small ones (a triangle or two), and the soup's (5 triangles, 15 vertices).
+    struct Case {
+        const TriangleMesh* mesh;
+        std::vector<uint32_t> ids;
+    };
+    std::vector<Case> cases;
+    for (uint32_t first = 0; first + 8 <= grid.triangle_count(); first += 37) {
+        Case c{&grid, {}};
+        for (uint32_t i = 0; i < 8; ++i) c.ids.push_back(first + i);
+        cases.push_back(c);
+    }
+    cases.push_back({&grid, {5}});
+    cases.push_back({&grid, {10, 11, 12}});
+    {
+        Case c{&soup, {}};
+        for (uint32_t i = 0; i < soup.triangle_count(); ++i) c.ids.push_back(i);
+        cases.push_back(c);
+    }
+    int hits = 0, tested = 0;
+    for (const Case& c : cases) {
+        const std::vector<GroupBlock> groups = groups_of(*c.mesh, c.ids);
+        const std::vector<Ray> rays = rays_towards(*c.mesh, c.ids, rng, 300);
+        for (size_t r = 0; r < rays.size(); ++r) {
+            const Ray& ray = rays[r];
+            const float t_min = r % 5 == 0 ? u01(rng) : (r % 31 == 0 ? -INFINITY : 0.0f);
+            const WatertightRay w = make_watertight_ray(ray);  // the scalar test's
+            const GroupBlock* end = groups.data() + groups.size() - kGroupPaddingBlocks;
+            for (const GroupBlock* group = groups.data(); group < end; group = next_group(group)) {
+                for (PacketIsa isa : ray_kernel_isas()) {
+                    GroupLanes lanes;
+                    mesh_ray_kernel(isa).test_group(group, ray, t_min, lanes);
+                    EXPECT_EQ(lanes.hits >> group_triangle_count(group), 0u) << "hits past the group's triangles";
+                    for (uint32_t lane = 0; lane < group_triangle_count(group); ++lane) {
+                        const GroupTriangle tri = group_triangle(group, lane);
+                        TriangleHit expected{};
+                        const bool hit = intersect_triangle(w, tri.p0, tri.p1, tri.p2, t_min, expected);
+                        const bool lane_hit = (lanes.hits >> lane) & 1u;
+                        ++tested;
+                        hits += hit;
+                        ASSERT_EQ(lane_hit, hit) << packet_isa_name(isa) << ", triangle " << tri.id << ", "
+                                                 << describe(ray, t_min);
+                        if (!hit) continue;
+                        ASSERT_EQ(bits_of(lanes.t[lane]), bits_of(expected.t)) << packet_isa_name(isa) << " t, " << describe(ray, t_min);
+                        ASSERT_EQ(bits_of(lanes.u[lane]), bits_of(expected.u)) << packet_isa_name(isa) << " u, " << describe(ray, t_min);
+                        ASSERT_EQ(bits_of(lanes.v[lane]), bits_of(expected.v)) << packet_isa_name(isa) << " v, " << describe(ray, t_min);
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(hits, tested / 40) << "the rays should find plenty of hits (" << tested << " tests)";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scenes
+
+// The closest hit by testing every triangle of the mesh with the scalar test.
+Hit brute_force(const TriangleMesh& mesh, const Ray& ray, float t_min, uint32_t object) {
+    Hit best;
+    const WatertightRay w = make_watertight_ray(ray);
+    for (uint32_t i = 0; i < mesh.triangle_count(); ++i) {
+        TriangleHit h;
+        if (!intersect_triangle(w, corner(mesh, i, 0), corner(mesh, i, 1), corner(mesh, i, 2), t_min, h)) continue;
+        if (is_closer(h.t, object, i, best)) best = Hit{h.t, h.u, h.v, object, i};
+    }
+    return best;
+}
+
+TEST(MeshKernel, EveryKernelFindsTheBruteForceHitAndItsAnyHitAgrees) {
+    std::mt19937 rng(53);
+    std::uniform_real_distribution<float> u01(0, 1);
+    TriangleMesh mesh = soup_mesh(rng, 1500, 6);
+    const TriangleMesh grid = grid_mesh(rng, 20, 0.4f);  // shares vertices: groups of 8
+    const uint32_t base = static_cast<uint32_t>(mesh.positions.size());
+    for (const Vec3f& p : grid.positions) mesh.positions.push_back(p * 0.5f - Vec3f{5, 5, 0});
+    for (uint32_t index : grid.indices) mesh.indices.push_back(base + index);
+    const MeshShape shape = build_mesh_shape(mesh, 2);
+    const MeshView view{shape.bvh.nodes.data(), shape.groups.data()};
+    std::vector<uint32_t> ids;
+    for (uint32_t i = 0; i < mesh.triangle_count(); ++i) ids.push_back(i);
+    const std::vector<Ray> rays = rays_towards(mesh, ids, rng, 1500);
+    int hits = 0;
+    for (size_t r = 0; r < rays.size(); ++r) {
+        const Ray& ray = rays[r];
+        const float t_min = r % 6 == 0 ? u01(rng) * 4 : 0.0f;
+        const Hit expected = brute_force(mesh, ray, t_min, 3);
+        hits += expected.is_hit();
+        for (PacketIsa isa : ray_kernel_isas()) {
+            const MeshRayKernel& kernel = mesh_ray_kernel(isa);
+            Hit hit;
+            uint64_t boxes = 0;
+            kernel.intersect(view, ray, t_min, 3, hit, &boxes);
+            ASSERT_EQ(hit.is_hit(), expected.is_hit()) << packet_isa_name(isa) << ", " << describe(ray, t_min);
+            EXPECT_GT(boxes, 0u);
+            if (expected.is_hit()) {
+                ASSERT_EQ(bits_of(hit.t), bits_of(expected.t)) << packet_isa_name(isa) << ", " << describe(ray, t_min);
+                ASSERT_EQ(hit.prim, expected.prim) << packet_isa_name(isa) << ", " << describe(ray, t_min);
+                ASSERT_EQ(bits_of(hit.u), bits_of(expected.u));
+                ASSERT_EQ(bits_of(hit.v), bits_of(expected.v));
+                ASSERT_EQ(hit.object, 3u);
+                ASSERT_LT(group_lane_of(&shape.groups[hit.leaf], hit.prim), group_triangle_count(&shape.groups[hit.leaf]));
+                // Any hit: nothing strictly before the closest hit, something just past it.
+                ASSERT_FALSE(kernel.occluded(view, ray, t_min, expected.t)) << packet_isa_name(isa) << ", " << describe(ray, t_min);
+                ASSERT_TRUE(kernel.occluded(view, ray, t_min, std::nextafter(expected.t, INFINITY)))
+                    << packet_isa_name(isa) << ", " << describe(ray, t_min);
+            } else {
+                ASSERT_FALSE(kernel.occluded(view, ray, t_min, INFINITY)) << packet_isa_name(isa) << ", " << describe(ray, t_min);
+            }
+            if (expected.is_hit()) {
+                // An equal t found before on another object: the object listed first keeps it.
+                Hit tie{expected.t, 0, 0, 1, 0, 0};
+                kernel.intersect(view, ray, t_min, 3, tie, nullptr);
+                EXPECT_EQ(tie.object, 1u) << packet_isa_name(isa);
+                tie = Hit{expected.t, 0, 0, 5, 0, 0};
+                kernel.intersect(view, ray, t_min, 3, tie, nullptr);
+                EXPECT_EQ(tie.object, 3u) << packet_isa_name(isa);
+            }
+        }
+    }
+    EXPECT_GT(hits, 500);
+}
+
+TEST(MeshShape, KeepsNoPositionsOrIndicesButKeepsTheFileNormals) {
+    std::mt19937 rng(54);
+    TriangleMesh mesh = grid_mesh(rng, 10, 0.3f);
+    mesh.normals = {{0, 0, 1}, {0, 0.6f, 0.8f}, {0.6f, 0, 0.8f}};
+    for (size_t i = 0; i < mesh.indices.size(); ++i) mesh.normal_indices.push_back(static_cast<uint32_t>(i % 3));
+    const MeshShape shape = build_mesh_shape(mesh, 1);
+    EXPECT_TRUE(shape.mesh.positions.empty());
+    EXPECT_TRUE(shape.mesh.indices.empty());
+    EXPECT_EQ(shape.mesh.normals, mesh.normals);
+    EXPECT_EQ(shape.mesh.normal_indices, mesh.normal_indices);
+    EXPECT_EQ(shape.triangle_count, mesh.triangle_count());
+
+    // surface_at still interpolates the file's normals and gives flat ones where a face has none.
+    SceneDesc desc = scene_desc();
+    mesh.normal_indices[3 * 7] = kNoNormal;
+    const int index = add_mesh(desc, mesh);
+    desc.root->children.push_back(mesh_object(index));
+    const Scene scene = build(std::move(desc));
+    EXPECT_EQ(scene.triangle_count(), mesh.triangle_count());
+    int smooth = 0, flat = 0;
+    for (uint32_t i = 0; i < mesh.triangle_count(); ++i) {
+        const Vec3f target = (corner(mesh, i, 0) + corner(mesh, i, 1) + corner(mesh, i, 2)) * (1.0f / 3);
+        const Ray ray{target + Vec3f{0.01f, 0.02f, 5}, {-0.01f, -0.02f, -5}};
+        Hit hit;
+        intersect(scene, ray, 0, hit);
+        ASSERT_TRUE(hit.is_hit());
+        const uint32_t* n = &mesh.normal_indices[3 * size_t{hit.prim}];
+        Vec3f expected = triangle_normal(corner(mesh, hit.prim, 0), corner(mesh, hit.prim, 1), corner(mesh, hit.prim, 2));
+        if (n[0] != kNoNormal) {
+            expected = normalize(mesh.normals[n[0]] * (1 - hit.u - hit.v) + mesh.normals[n[1]] * hit.u +
+                                 mesh.normals[n[2]] * hit.v);
+            ++smooth;
+        } else {
+            ++flat;
+        }
+        EXPECT_EQ(surface_at(scene, ray, hit).normal, expected) << "triangle " << hit.prim;
+    }
+    EXPECT_GT(smooth, 100);
+    EXPECT_GT(flat, 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Packets
+
+// Spheres, planes, a triangle and meshes, some of them transformed: every kind of instance.
+Scene mixed_scene(std::mt19937& rng) {
+    SceneDesc desc = scene_desc();
+    const int soup = add_mesh(desc, soup_mesh(rng, 300, 3));
+    const int grid = add_mesh(desc, grid_mesh(rng, 16, 0.5f));
+    std::vector<ObjectDesc>& objects = desc.root->children;
+    objects.push_back(mesh_object(soup));
+    objects.push_back(transform(Mat4::translate({-8, -8, -2}) * Mat4::rotate({1, 1, 0}, 20), mesh_object(grid)));
+    objects.push_back(sphere({2, 2, 1}, 1.5f));
+    objects.push_back(transform(Mat4::translate({-3, 3, 0}) * Mat4::scale({0.5f, 2, 1}), sphere({0, 0, 0}, 1)));
+    objects.push_back(triangle({-6, -6, -4}, {6, -6, -4}, {0, 6, -4.5f}));
+    objects.push_back(plane({0, 0, 1}, -7));
+    objects.push_back(transform(Mat4::scale({1, 1, 2}), mesh_object(soup)));
+    return build(std::move(desc));
+}
+
+TEST(PacketOcclusion, EveryIsaBlocksExactlyTheRaysOccludedBlocks) {
+    std::mt19937 rng(55);
+    std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
+    const Scene scene = mixed_scene(rng);
+    int blocked_count = 0, total = 0;
+    for (PacketIsa isa : packet_isas()) {
+        const PacketTracer tracer(scene, isa);
+        for (int packet = 0; packet < 300; ++packet) {
+            const int count = 1 + packet % tracer.lanes();
+            Ray rays[kMaxPacketLanes];
+            float t_max[kMaxPacketLanes];
+            // Shadow rays from points of the scene towards one point light, or one direction;
+            // and every fourth packet incoherent: random origins and directions.
+            const Vec3f light{u(rng) * 10, u(rng) * 10, 4 + 6 * u01(rng)};
+            const Vec3f sun = normalize(Vec3f{u(rng), u(rng), 1});
+            const Vec3f centre{u(rng) * 6, u(rng) * 6, u(rng) * 6};
+            for (int k = 0; k < count; ++k) {
+                const Vec3f from = centre + Vec3f{u(rng), u(rng), u(rng)} * (packet % 4 == 3 ? 6.0f : 1.0f);
+                switch (packet % 4) {
+                    case 0:  // towards a point light, up to it
+                        rays[k] = {from, light - from};
+                        t_max[k] = 1;
+                        break;
+                    case 1:  // towards the sun, unbounded
+                        rays[k] = {from, sun};
+                        t_max[k] = INFINITY;
+                        break;
+                    case 2:  // short rays: many end before anything
+                        rays[k] = {from, Vec3f{u(rng), u(rng), u(rng)}};
+                        t_max[k] = u01(rng) * 2;
+                        break;
+                    default:
+                        rays[k] = {from, Vec3f{u(rng), u(rng), u(rng)}};
+                        t_max[k] = k % 5 == 0 ? 0.0f : 30 * u01(rng);
+                }
+            }
+            const float t_min = packet % 3 == 0 ? 0.05f : 0.0f;
+            bool blocked[kMaxPacketLanes];
+            tracer.occluded(rays, count, t_min, t_max, blocked);
+            for (int k = 0; k < count; ++k) {
+                const bool expected = occluded(scene, rays[k], t_min, t_max[k]);
+                ASSERT_EQ(blocked[k], expected) << packet_isa_name(isa) << ", packet " << packet << ", lane " << k << ", "
+                                                << describe(rays[k], t_min) << ", t_max " << t_max[k];
+                blocked_count += expected;
+                ++total;
+            }
+        }
+    }
+    EXPECT_GT(blocked_count, total / 5);
+    EXPECT_LT(blocked_count, total * 4 / 5);
+}
+
+TEST(PacketIntersect, RaysThatPointDifferentWaysGetTheirSingleRayHits) {
+    // Lanes whose dominant axes differ need different watertight permutations: the packet
+    // kernels trace each set of lanes that share one.
+    std::mt19937 rng(56);
+    std::uniform_real_distribution<float> u(-1, 1);
+    const Scene scene = mixed_scene(rng);
+    for (PacketIsa isa : packet_isas()) {
+        const PacketTracer tracer(scene, isa);
+        for (int packet = 0; packet < 200; ++packet) {
+            const int count = 1 + packet % tracer.lanes();
+            Ray rays[kMaxPacketLanes];
+            const Vec3f origin{u(rng) * 8, u(rng) * 8, 6};
+            for (int k = 0; k < count; ++k) rays[k] = {packet % 2 ? origin : Vec3f{u(rng) * 8, u(rng) * 8, 6}, {u(rng), u(rng), u(rng)}};
+            Hit hits[kMaxPacketLanes];
+            tracer.intersect(rays, count, 0, hits);
+            for (int k = 0; k < count; ++k) {
+                Hit expected;
+                intersect(scene, rays[k], 0, expected);
+                ASSERT_EQ(hits[k].is_hit(), expected.is_hit()) << packet_isa_name(isa) << ", " << describe(rays[k], 0);
+                if (!expected.is_hit()) continue;
+                ASSERT_EQ(bits_of(hits[k].t), bits_of(expected.t)) << packet_isa_name(isa) << ", " << describe(rays[k], 0);
+                ASSERT_EQ(hits[k].object, expected.object);
+                ASSERT_EQ(hits[k].prim, expected.prim);
+                ASSERT_EQ(hits[k].leaf, expected.leaf);
+                ASSERT_EQ(bits_of(hits[k].u), bits_of(expected.u));
+                ASSERT_EQ(bits_of(hits[k].v), bits_of(expected.v));
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace raycast
