@@ -16,6 +16,7 @@
 #include "render/ray_tree.h"
 #include "render/render_options.h"
 #include "render/sampler.h"
+#include "scene/intersect_packet.h"
 #include "scene/scene.h"
 
 namespace raycast {
@@ -40,6 +41,14 @@ struct RayCounts {
 /// renderer warns when a sample reaches it.
 constexpr uint32_t kMaxRaysPerSample = 1u << 16;
 
+/// The answers to a camera hit's opaque shadow rays, found before shading by tracing them in a
+/// packet with those of the neighbouring pixels (trace_camera_shadows): bit i of `known` says light
+/// i's answer is here, bit i of `blocked` what it is. Only the camera ray's own hit uses them.
+struct CameraShadows {
+    uint64_t known = 0;
+    uint64_t blocked = 0;
+};
+
 /// Everything a radiance function knows about the ray it is shading besides the ray itself.
 struct TraceContext {
     int depth = 0;                    ///< 0 for a camera ray, +1 per reflection or refraction
@@ -50,6 +59,7 @@ struct TraceContext {
     uint32_t* rays_left = nullptr;    ///< the camera sample's budget, shared by its whole ray tree
     uint64_t nodes_visited = 0;       ///< BVH nodes the camera ray visited (cost mode)
     RayTree* tree = nullptr;          ///< set by `explain`: every ray is recorded; null when rendering
+    const CameraShadows* camera_shadows = nullptr;  ///< for depth 0, when the render loop traced them
     int record = -1;                  ///< this ray's record in `tree`
 };
 
@@ -81,9 +91,22 @@ Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3
 
 /// What reaches `position` from a light along `to_light` over `distance`: 1 (all of it) when
 /// nothing is in the way, 0 when an opaque object is, and with transparent shadows the product
-/// of the transparentColor of every surface crossed. Counts and records the shadow ray.
+/// of the transparentColor of every surface crossed. Counts and records the shadow ray. `light`
+/// is the light's index, for the context's camera_shadows (-1: none applies).
 Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
-                          TraceContext& context);
+                          TraceContext& context, int light = -1);
+
+/// Whether the integrator's camera hits have shadow rays that trace_camera_shadows can trace ahead
+/// in packets: shaded mode, opaque shadows, at least one light.
+bool traces_camera_shadows(const Integrator& integrator);
+
+/// Shadow rays are coherent where camera rays are: from neighbouring hits towards one light. For
+/// each light (the first 64), traces the shadow rays of the hits among rays[0..count) (count <=
+/// tracer.lanes()) together, as one packet any-hit query, from exactly the origins local shading
+/// would use, and writes each lane's answers to shadows[k]. The image is the same as with the rays
+/// traced one by one; the rays are counted when shading uses their answers.
+void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
+                          int count, CameraShadows* shadows);
 
 /// What the render mode shows along `ray`, whose closest hit is `hit`, traced as a camera ray
 /// (depth 0, weight 1, in vacuum): the colour of a pixel whose only ray this is. With `tree`,

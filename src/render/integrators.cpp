@@ -87,7 +87,8 @@ Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, Tra
             const Vec3f origin =
                 offset_ray_origin(frame.surface.position, frame.surface.geometric_normal, arriving.to_light,
                                   frame.travel_scale);
-            transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context);
+            transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context,
+                                                static_cast<int>(i));
         }
         const bool lit = transmittance != Vec3f{0, 0, 0};
         LightReflection terms{};
@@ -330,7 +331,7 @@ Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3
 }
 
 Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
-                          TraceContext& context) {
+                          TraceContext& context, int light) {
     const Scene& scene = integrator.scene;
     int shadow_record = -1;
     if (context.tree) {
@@ -366,7 +367,13 @@ Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_l
     if (!take_ray(context)) return finish({1, 1, 1}, nullptr, ray);
     ++context.counts->shadow;
     if (!integrator.options.transparent_shadows) {
-        if (!context.tree) return occluded(scene, ray, 0, distance) ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
+        if (!context.tree) {
+            const CameraShadows* known = context.depth == 0 ? context.camera_shadows : nullptr;
+            const bool blocked = known && light >= 0 && light < 64 && ((known->known >> light) & 1)
+                                     ? ((known->blocked >> light) & 1) != 0
+                                     : occluded(scene, ray, 0, distance);
+            return blocked ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
+        }
         // Explaining: the same answer, but with the blocker named.
         Hit hit;
         intersect(scene, ray, 0, hit);
@@ -413,6 +420,49 @@ Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray
         context.record = tree->add(std::move(record));
     }
     return integrator.radiance(integrator, ray, hit, context);
+}
+
+bool traces_camera_shadows(const Integrator& integrator) {
+    return integrator.radiance == &whitted_radiance && integrator.options.shadows &&
+           !integrator.options.transparent_shadows && !integrator.scene.lights.empty();
+}
+
+void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
+                          int count, CameraShadows* shadows) {
+    const Scene& scene = integrator.scene;
+    // Each hit's point as local shading sees it (shading_frame and local_shading above).
+    Vec3f positions[kMaxPacketLanes], plane_normals[kMaxPacketLanes];
+    float travel_scales[kMaxPacketLanes];
+    int lane_of[kMaxPacketLanes];
+    int hit_count = 0;
+    for (int k = 0; k < count; ++k) {
+        shadows[k] = CameraShadows{};
+        if (!hits[k].is_hit()) continue;
+        const SurfacePoint surface = surface_at(scene, rays[k], hits[k]);
+        positions[hit_count] = surface.position;
+        plane_normals[hit_count] = surface.geometric_normal;
+        travel_scales[hit_count] = ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t);
+        lane_of[hit_count++] = k;
+    }
+    if (hit_count == 0) return;
+    const size_t lights = std::min<size_t>(scene.lights.size(), 64);
+    for (size_t i = 0; i < lights; ++i) {
+        Ray shadow_rays[kMaxPacketLanes];
+        float t_max[kMaxPacketLanes];
+        bool blocked[kMaxPacketLanes];
+        for (int h = 0; h < hit_count; ++h) {
+            const Illumination arriving = illuminate(scene.lights[i], positions[h]);
+            shadow_rays[h] = {offset_ray_origin(positions[h], plane_normals[h], arriving.to_light, travel_scales[h]),
+                              arriving.to_light};
+            t_max[h] = arriving.distance;
+        }
+        tracer.occluded(shadow_rays, hit_count, 0, t_max, blocked);
+        for (int h = 0; h < hit_count; ++h) {
+            CameraShadows& answers = shadows[lane_of[h]];
+            answers.known |= uint64_t{1} << i;
+            answers.blocked |= uint64_t{blocked[h]} << i;
+        }
+    }
 }
 
 }  // namespace raycast

@@ -39,7 +39,8 @@ Ray camera_sample_ray(const Camera& camera, int x, int y, int s, int spp) {
 // fresh trace context (depth 0, weight 1, vacuum, this sample's random numbers and ray budget)
 // handed to the mode's radiance function. With `tree`, every ray is recorded in it.
 Vec3f shade_camera_sample(const Integrator& integrator, uint32_t index, int s, const Ray& ray, const Hit& hit,
-                          uint64_t nodes_visited, RayCounts& counts, RayTree* tree) {
+                          uint64_t nodes_visited, RayCounts& counts, RayTree* tree,
+                          const CameraShadows* shadows = nullptr) {
     Sampler sampler(index, s);
     uint32_t budget = kMaxRaysPerSample;
     TraceContext context;
@@ -48,6 +49,7 @@ Vec3f shade_camera_sample(const Integrator& integrator, uint32_t index, int s, c
     context.rays_left = &budget;
     context.nodes_visited = nodes_visited;
     context.tree = tree;
+    context.camera_shadows = shadows;
     if (tree) {
         RayRecord record;
         record.origin = ray.origin;
@@ -114,7 +116,9 @@ public:
           camera_(render_camera(scene, options)),
           frame_(frame_of(camera_, options)),
           spp_(std::max(1, options.samples_per_pixel)),
-          packet_width_(tracer_.lanes()) {}
+          packet_width_(tracer_.lanes()),
+          // Shadow rays from a packet's hits are as coherent as the packet: traced together too.
+          camera_shadows_(packet_width_ > 1 && traces_camera_shadows(integrator_)) {}
 
     int width() const { return frame_.width; }
     int height() const { return frame_.height; }
@@ -191,6 +195,7 @@ private:
         int camera_x[kMaxPacketLanes], camera_y[kMaxPacketLanes];
         size_t slot[kMaxPacketLanes];  // the pixel's place in the tile
         Vec3f colors[kMaxPacketLanes], normals[kMaxPacketLanes];
+        CameraShadows shadows[kMaxPacketLanes];
         for (int by = y_begin; by < y_end; by += block_h)
             for (int bx = x_begin; bx < x_end; bx += block_w) {
                 int count = 0;
@@ -209,6 +214,7 @@ private:
                         nodes[k] = 0;
                     }
                     trace_camera_rays(rays, hits, nodes, count);
+                    if (camera_shadows_) trace_camera_shadows(integrator_, tracer_, rays, hits, count, shadows);
                     for (int k = 0; k < count; ++k) {
                         RayCounts& counts = worker.counts;
                         counts.primary += 1;
@@ -216,7 +222,8 @@ private:
                         counts.nodes_visited += nodes[k];
                         const uint32_t index = pixel_index(camera, camera_x[k], camera_y[k]);
                         const Vec3f color =
-                            shade_camera_sample(integrator_, index, s, rays[k], hits[k], nodes[k], counts, nullptr);
+                            shade_camera_sample(integrator_, index, s, rays[k], hits[k], nodes[k], counts, nullptr,
+                                                camera_shadows_ ? &shadows[k] : nullptr);
                         colors[k] = s == 0 ? color : colors[k] + color;
                         if (targets_.normal_bytes) {
                             const Vec3f normal =
@@ -280,6 +287,7 @@ private:
     Frame frame_;
     int spp_ = 1;
     int packet_width_ = 1;
+    bool camera_shadows_ = false;
     Targets targets_;
 };
 

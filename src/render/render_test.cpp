@@ -281,6 +281,38 @@ TEST(RenderTest, EveryPacketIsaGivesTheSameImageAsSingleRays) {
     }
 }
 
+// Shadow rays from a packet's hits are traced as packets too (trace_camera_shadows): the image
+// and the shadow-ray count are those of single rays, for every kernel, with 1 or 4 samples, and
+// past the 64 lights whose answers a packet keeps (the rest are traced one by one).
+TEST(RenderTest, ShadowPacketsGiveTheSameImageAndCountsAsSingleRays) {
+    Scene many_lights = spheres_scene();
+    while (many_lights.lights.size() < 70) many_lights.lights.push_back(many_lights.lights[many_lights.lights.size() % 2]);
+    for (auto& light : many_lights.lights) light.color = light.color * (1.0f / 35);
+    const Scene scenes[3] = {mesh_scene(), transformed_scene(), std::move(many_lights)};
+    const char* const names[3] = {"meshes", "transformed", "70 lights"};
+    for (int k = 0; k < 3; ++k)
+        for (const int spp : {1, 4}) {
+            RenderOptions single = options_with(PacketIsa::None);
+            single.samples_per_pixel = spp;
+            const Image unshadowed = render_image(scenes[k], single);
+            single.shadows = true;
+            RenderStats stats;
+            const Image reference = render_image(scenes[k], single, &stats);
+            // Something casts a shadow, and every hit sent one ray per light.
+            EXPECT_FALSE(same_bytes(reference, unshadowed)) << names[k];
+            EXPECT_EQ(stats.shadow_rays, stats.hits * scenes[k].lights.size()) << names[k];
+            for (PacketIsa isa : available_isas()) {
+                if (isa == PacketIsa::None) continue;
+                RenderOptions packets = single;
+                packets.packet_isa = isa;
+                RenderStats packet_stats;
+                const Image image = render_image(scenes[k], packets, &packet_stats);
+                EXPECT_TRUE(same_floats(image, reference)) << names[k] << " " << packet_isa_name(isa) << " spp " << spp;
+                EXPECT_EQ(packet_stats.shadow_rays, stats.shadow_rays) << names[k] << " " << packet_isa_name(isa);
+            }
+        }
+}
+
 TEST(RenderTest, OneSamplePerPixelIsExactlyTheCourseMainLoop) {
     // Brute force per pixel (camera_ray at the pixel's point, intersect, shade or background)
     // against the tiled, packeted renderer; samples_per_pixel 1 is also the default.
