@@ -21,6 +21,18 @@ inline void offer(Hit& best, float t, float u, float v, uint32_t object, uint32_
     if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim, leaf};
 }
 
+// How many shapes of a kind the scene holds (for checking an instance's index).
+size_t shape_count(const Scene& scene, ShapeKind kind) {
+    switch (kind) {
+        case ShapeKind::Sphere: return scene.spheres.size();
+        case ShapeKind::Plane: return scene.planes.size();
+        case ShapeKind::Triangle: return scene.triangles.size();
+        case ShapeKind::Mesh: return scene.meshes.size();
+        case ShapeKind::RevSurface: return scene.rev_surfaces.size();
+    }
+    return 0;
+}
+
 template <bool kAnyHit>
 struct Query {
     const Scene& scene;
@@ -43,10 +55,7 @@ struct Query {
         RAYCAST_DCHECK(id < scene.instances.size());
         const Instance& inst = scene.instances[id];
         RAYCAST_DCHECK(inst.transform == kNoTransform || inst.transform < scene.object_from_world.size());
-        RAYCAST_DCHECK(inst.shape < (inst.kind == ShapeKind::Sphere     ? scene.spheres.size()
-                                     : inst.kind == ShapeKind::Triangle ? scene.triangles.size()
-                                     : inst.kind == ShapeKind::Mesh     ? scene.meshes.size()
-                                                                        : scene.planes.size()));
+        RAYCAST_DCHECK(inst.shape < shape_count(scene, inst.kind));
         const Ray ray = inst.transform == kNoTransform ? world_ray
                                                        : to_object_space(scene.object_from_world[inst.transform], world_ray);
         switch (inst.kind) {
