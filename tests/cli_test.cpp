@@ -537,5 +537,21 @@ TEST(CliTest, AFailedRunNeverDamagesAnExistingOutput) {
     EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "bad.txt", "o.ppm"}));
 }
 
+// `raycast view` runs the raycast-view program beside raycast (so that a render never loads the
+// HTTP library); a raycast copied alone says what is missing, and the renderer itself does not
+// link cpp-httplib.
+TEST(CliTest, ViewRunsTheViewerProgramBesideRaycastAndSaysWhenItIsMissing) {
+    const std::string dir = temp_dir("view_program");
+    ASSERT_EQ(run_command("cp '" RAYCAST_EXECUTABLE "' '" + dir + "/raycast'").exit_code, 0);
+    const RunResult alone = run_command("'" + dir + "/raycast' view s.txt 2>&1");
+    EXPECT_EQ(alone.exit_code, 1);
+    EXPECT_EQ(alone.output, "raycast view: error: the viewer is the program " + dir +
+                                "/raycast-view, which is not there: it is built with raycast (cmake --build)\n");
+    const RunResult libraries = run_command("ldd '" RAYCAST_EXECUTABLE "' 2>&1");
+    if (libraries.exit_code == 0) {
+        EXPECT_EQ(libraries.output.find("httplib"), std::string::npos) << libraries.output;
+    }
+}
+
 }  // namespace
 }  // namespace raycast::test

@@ -24,7 +24,9 @@
 #include "scene/build_scene.h"
 #include "scene/intersect_packet.h"
 #include "sceneio/load_scene.h"
+#ifdef RAYCAST_VIEW_PROGRAM
 #include "view/view_server.h"
+#endif
 
 #ifndef RAYCAST_VERSION
 #define RAYCAST_VERSION "dev"
@@ -250,6 +252,7 @@ int run_explain(const CliOptions& options) {
     return 0;
 }
 
+#ifdef RAYCAST_VIEW_PROGRAM
 bool is_loopback(const std::string& host) {
     return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
 }
@@ -295,6 +298,25 @@ int run_view(const CliOptions& options) {
     });
     return 0;
 }
+
+#else
+// The viewer is its own program, raycast-view, built beside raycast: cpp-httplib comes as a shared
+// library linked with OpenSSL, zlib and brotli, whose loading would add milliseconds and megabytes
+// to every render. `raycast view ...` runs it with the same words.
+[[noreturn]] void exec_view_program(char** argv) {
+    char self[4096];
+    const ssize_t length = readlink("/proc/self/exe", self, sizeof self - 1);
+    std::string program = length > 0 ? std::string(self, static_cast<size_t>(length)) : std::string(argv[0]);
+    const size_t slash = program.rfind('/');
+    program = (slash == std::string::npos ? std::string(".") : program.substr(0, slash)) + "/raycast-view";
+    if (access(program.c_str(), X_OK) != 0)
+        throw InputError("raycast view", "the viewer is the program " + program +
+                                             ", which is not there: it is built with raycast (cmake --build)");
+    argv[0] = program.data();
+    execv(program.c_str(), argv);
+    throw InputError("raycast view", "cannot run " + program + ": " + std::strerror(errno));
+}
+#endif
 
 int run_compare(const CliOptions& options) {
     const ImageRgb8 a = read_image(options.inputs[0]);
@@ -373,7 +395,11 @@ int run(int argc, char** argv) {
             case CliOptions::Command::Explain:
                 return run_explain(options);
             case CliOptions::Command::View:
+#ifdef RAYCAST_VIEW_PROGRAM
                 return run_view(options);
+#else
+                exec_view_program(argv);
+#endif
         }
     } catch (const UsageError& error) {
         std::fprintf(stderr, "raycast: usage error: %s\nTry 'raycast --help' for more information.\n", error.what());
