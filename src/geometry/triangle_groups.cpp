@@ -108,10 +108,13 @@ GroupTriangle group_triangle(const GroupBlock* group, uint32_t lane) {
 
 uint32_t group_lane_of(const GroupBlock* group, uint32_t id) {
     const uint32_t k = group_triangle_count(group), v = group_vertex_count(group);
+    // A group spans several blocks: address it from a pointer to its first byte, not as
+    // `group->bytes + offset`, which names an array of 16 (UBSan's bounds check says so).
+    const unsigned char* bytes = group->bytes;
     uint32_t lane = 0;
     for (; lane < k; ++lane) {
         uint32_t lane_id;
-        std::memcpy(&lane_id, group->bytes + group_ids_offset(k, v) + 4 * lane, 4);
+        std::memcpy(&lane_id, bytes + group_ids_offset(k, v) + 4 * lane, 4);
         if (lane_id == id) break;
     }
     return lane;

@@ -251,7 +251,10 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
     Vec3f eye, direction, up;
     bool has_eye = false, has_direction = false, has_up = false;
     float angle = 0, size = 0;
-    for (const auto& [name, value] : query) {
+    for (const auto& parameter : query) {
+        // Named references, not a structured binding: lambdas may capture those only from C++20.
+        const std::string& name = parameter.first;
+        const std::string& value = parameter.second;
         if (!seen.insert(name).second) return error = "parameter '" + name + "' is given twice", false;
         const auto fail = [&](const std::string& expected) {
             error = "parameter '" + name + "' " + expected + ", got " + shown(value);
