@@ -43,10 +43,13 @@ constexpr uint32_t kMaxRaysPerSample = 1u << 16;
 
 /// The answers to a camera hit's opaque shadow rays, found before shading by tracing them in a
 /// packet with those of the neighbouring pixels (trace_camera_shadows): bit i of `known` says light
-/// i's answer is here, bit i of `blocked` what it is. Only the camera ray's own hit uses them.
+/// i's answer is here, bit i of `blocked` what it is. Only the camera ray's own hit uses them, with
+/// the surface point they were traced from (surface_at of the hit, so shading need not find it
+/// again).
 struct CameraShadows {
     uint64_t known = 0;
     uint64_t blocked = 0;
+    SurfacePoint surface;
 };
 
 /// Everything a radiance function knows about the ray it is shading besides the ray itself.

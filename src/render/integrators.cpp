@@ -61,9 +61,10 @@ struct ShadingFrame {
     float travel_scale;  // of the ray that found the point: for offsetting new rays
 };
 
-ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit) {
+// `known` is the hit's surface point when the render loop already found it (trace_camera_shadows).
+ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit, const SurfacePoint* known = nullptr) {
     ShadingFrame frame;
-    frame.surface = surface_at(scene, ray, hit);
+    frame.surface = known ? *known : surface_at(scene, ray, hit);
     frame.normal = frame.surface.normal;
     frame.to_viewer = normalize(-ray.direction);
     frame.back_face = dot(frame.normal, frame.to_viewer) < 0;
@@ -120,7 +121,8 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
     const Scene& scene = integrator.scene;
     RayRecord* record = record_of(context);
     if (!hit.is_hit()) return finish(context, scene.background);
-    const ShadingFrame frame = shading_frame(scene, ray, hit);
+    const CameraShadows* prepared = context.depth == 0 ? context.camera_shadows : nullptr;
+    const ShadingFrame frame = shading_frame(scene, ray, hit, prepared && prepared->known ? &prepared->surface : nullptr);
     record_surface(context, hit, frame.surface);
     if (record) {
         record->shading_normal = frame.normal;
@@ -438,7 +440,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
     for (int k = 0; k < count; ++k) {
         shadows[k] = CameraShadows{};
         if (!hits[k].is_hit()) continue;
-        const SurfacePoint surface = surface_at(scene, rays[k], hits[k]);
+        const SurfacePoint& surface = shadows[k].surface = surface_at(scene, rays[k], hits[k]);
         positions[hit_count] = surface.position;
         plane_normals[hit_count] = surface.geometric_normal;
         travel_scales[hit_count] = ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t);

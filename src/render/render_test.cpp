@@ -313,6 +313,31 @@ TEST(RenderTest, ShadowPacketsGiveTheSameImageAndCountsAsSingleRays) {
         }
 }
 
+// A scene whose instance BVH is one leaf is traced without that leaf's box on every path. Here
+// the box is too thin for the box test's stand-in for 1/0 (a sphere of radius 1e-45 seen along
+// the z axis from 1e18 away): found by fuzz_render_pipeline, where packets missed the sphere that
+// single rays (and explain) hit.
+TEST(RenderTest, ALoneInstanceIsTestedWithoutItsBoxOnEveryPath) {
+    const Scene scene = build(load_scene_text(R"(OrthographicCamera {
+    center 0 0 9.99999984e+17 direction 0 0 -1 up 0 1 0 size 1.40129846e-45 width 8 height 6 }
+Background { color 0 0 0 }
+Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }
+Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1.40129846e-45 } }
+)", "tiny.txt"));
+    RenderOptions single = options_with(PacketIsa::None);
+    single.mode = RenderMode::Material;
+    const Image reference = render_image(scene, single);
+    EXPECT_NE(reference.at(0, 0), (Vec3f{0, 0, 0}));  // the sphere, not the background
+    for (PacketIsa isa : available_isas()) {
+        RenderOptions options = single;
+        options.packet_isa = isa;
+        RenderStats stats;
+        const Image image = render_image(scene, options, &stats);
+        EXPECT_EQ(stats.hits, stats.primary_rays) << packet_isa_name(isa);
+        EXPECT_TRUE(same_floats(image, reference)) << packet_isa_name(isa);
+    }
+}
+
 TEST(RenderTest, OneSamplePerPixelIsExactlyTheCourseMainLoop) {
     // Brute force per pixel (camera_ray at the pixel's point, intersect, shade or background)
     // against the tiled, packeted renderer; samples_per_pixel 1 is also the default.

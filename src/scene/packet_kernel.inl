@@ -203,6 +203,13 @@ inline VM child_hits(const WideBvhNode& node, uint32_t slot, const PacketRays& r
 template <typename CullFn, typename LeafFn>
 inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF& t_min, CullFn&& t_cull,
                             LeafFn&& visit_leaf) {
+    if (nodes[0].count != 0) {
+        // One leaf: its instances are tested without its box, exactly as intersect() and
+        // occluded() do, so the paths agree even where the box test's stand-in for 1/0 (bvh.h)
+        // would miss a box too thin to see (fuzz/regressions/fuzz_render_pipeline-lone-tiny-sphere).
+        visit_leaf(nodes[0].first, nodes[0].count, r.live);
+        return;
+    }
     VF t_entry;
     VM mask = node_hits(nodes[0], r, t_min, t_cull(), t_entry);
     if (!any(mask)) return;
