@@ -150,6 +150,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     RenderStats stats;
     const Image image = render_image(scene, options, &stats);
+    // RAYCAST_FUZZ_SHOW=1 prints what an input makes (to look at a slow or surprising one).
+    if (std::getenv("RAYCAST_FUZZ_SHOW"))
+        std::fprintf(stderr, "%smode %s, %d samples, %d bounces, shadows %d, packets %s: %llu rays, %llu surface of "
+                             "revolution tests, %llu Newton steps\n",
+                     scene_files(random).c_str(), render_mode_name(options.mode), options.samples_per_pixel,
+                     options.bounces, options.shadows ? 1 : 0, packet_isa_name(options.packet_isa),
+                     static_cast<unsigned long long>(stats.rays), static_cast<unsigned long long>(stats.rev_surface.tests),
+                     static_cast<unsigned long long>(stats.rev_surface.newton_iterations));
     if (random.moderate && stats.truncated_samples > 0)
         finding("a camera sample reached the ray budget in a scene of moderate numbers",
                 string_printf("%llu samples, %llu rays", static_cast<unsigned long long>(stats.truncated_samples),
