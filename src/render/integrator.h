@@ -43,12 +43,13 @@ constexpr uint32_t kMaxRaysPerSample = 1u << 16;
 
 /// The answers to a camera hit's opaque shadow rays, found before shading by tracing them in a
 /// packet with those of the neighbouring pixels (trace_camera_shadows): bit i of `known` says light
-/// i's answer is here, bit i of `blocked` what it is. Only the camera ray's own hit uses them, with
+/// i's answer is here (it is not where shading needs no shadow ray), bit i of `blocked` what it is. Only the camera ray's own hit uses them, with
 /// the surface point they were traced from (surface_at of the hit, so shading need not find it
 /// again).
 struct CameraShadows {
     uint64_t known = 0;
     uint64_t blocked = 0;
+    bool surface_found = false;  ///< whether `surface` holds the hit's point (it was a hit)
     SurfacePoint surface;
 };
 
@@ -106,7 +107,7 @@ bool traces_camera_shadows(const Integrator& integrator);
 /// Shadow rays are coherent where camera rays are: from neighbouring hits towards one light. For
 /// each light (the first 64), traces the shadow rays of the hits among rays[0..count) (count <=
 /// tracer.lanes()) together, as one packet any-hit query, from exactly the origins local shading
-/// would use, and writes each lane's answers to shadows[k]. The image is the same as with the rays
+/// would use and only where it would trace one, and writes each lane's answers to shadows[k]. The image is the same as with the rays
 /// traced one by one; the rays are counted when shading uses their answers.
 void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
                           int count, CameraShadows* shadows);

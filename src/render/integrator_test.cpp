@@ -322,6 +322,37 @@ TEST(WhittedTest, ShadowRaysLeaveASmoothMeshOnTheSideOfItsTriangle) {
     EXPECT_EQ(stats.truncated_samples, 0u);
 }
 
+// A shadow ray only takes a light's share away: none is traced towards a light that adds nothing
+// (behind the surface, no highlight), in rendering as in explain, and the colour is the same.
+TEST(WhittedTest, NoShadowRayGoesTowardsALightThatAddsNothing) {
+    // The unit sphere's pole (0, 0, 1) seen from above, N = V = +z. One light shines on it from
+    // above (to the light: +z), the other from below (to the light: −z, so N·L = −1 and
+    // R = 2·(−1)·N − L = −z, V·R = −1: no diffuse, no highlight).
+    const Scene scene = build(scene_of(sphere({0, 0, 0}, 1, 0), {material({0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 0.5f}, 20)},
+                                       {0, 0, 0}, {0, 0, 0},
+                                       {directional({0, 0, -1}, {1, 1, 1}), directional({0, 0, 1}, {1, 1, 1})}));
+    RenderOptions options;
+    options.shadows = true;
+    const Traced traced = trace(scene, options, {{0, 0, 5}, {0, 0, -1}});
+    expect_vec_near(traced.color, {1, 1, 1});  // kd·1 + ks·1 from the light above, nothing from below
+    EXPECT_EQ(traced.counts.shadow, 1u);
+    const RayRecord& pole = traced.tree.rays[0];
+    ASSERT_EQ(pole.lights.size(), 2u);
+    EXPECT_TRUE(pole.lights[0].shadow_ray);
+    EXPECT_FALSE(pole.lights[1].shadow_ray);
+    expect_vec_near(pole.lights[1].contribution, {0, 0, 0});
+    int shadow_records = 0;
+    for (const RayRecord& r : traced.tree.rays) shadow_records += r.kind == RayKind::Shadow ? 1 : 0;
+    EXPECT_EQ(shadow_records, 1);
+    // The whole image: every visible point faces the light above (N·L > 0); the one below adds
+    // nothing around the pole (only near the outline can its highlight reach the camera).
+    RenderStats stats;
+    render_image(scene, options, &stats);
+    EXPECT_GT(stats.hits, 0u);
+    EXPECT_GE(stats.shadow_rays, stats.hits);
+    EXPECT_LT(stats.shadow_rays, 2 * stats.hits);
+}
+
 TEST(WhittedTest, PointLightAttenuationDividesByTheQuadraticInTheDistance) {
     // The unit sphere's pole (0, 0, 1) seen from above, lit by a point light 4 above it: N·L = 1.
     for (const Vec3f a : {Vec3f{1, 0, 0}, Vec3f{1, 0.5f, 0}, Vec3f{0, 0, 0.25f}, Vec3f{0.5f, 0.25f, 0.125f}}) {

@@ -63,14 +63,26 @@ struct ShadingFrame {
 
 // `known` is the hit's surface point when the render loop already found it (trace_camera_shadows).
 ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit, const SurfacePoint* known = nullptr) {
-    ShadingFrame frame;
-    frame.surface = known ? *known : surface_at(scene, ray, hit);
+    // Built in place: a copy of the point just written field by field would read it back in
+    // wider pieces than were stored, which the processor cannot forward from its store buffer.
+    ShadingFrame frame{known ? *known : surface_at(scene, ray, hit), {}, {}, false, 0};
     frame.normal = frame.surface.normal;
     frame.to_viewer = normalize(-ray.direction);
     frame.back_face = dot(frame.normal, frame.to_viewer) < 0;
     frame.travel_scale = ray_travel_scale(ray.origin, ray.direction, hit.t);
     if (frame.back_face && scene.conventions.shade_back_faces) frame.normal = -frame.normal;
     return frame;
+}
+
+// Whether shading needs a shadow ray towards a light: a shadow ray can only take the light's
+// share away, so where the share is nothing (the surface faces away from the light and shows no
+// highlight of it) none is traced. Local shading and the packets traced ahead of it ask this alike.
+bool needs_shadow_ray(const Scene& scene, const Material& material, const ShadingFrame& frame,
+                      const Illumination& arriving) {
+    const Vec3f c = arriving.color;
+    const bool finite = std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);  // inf·0 is NaN
+    return !(finite && reflects_no_light(material, scene.conventions.specular, frame.normal, arriving.to_light,
+                                         frame.to_viewer));
 }
 
 // Ambient plus every light, each gated by its shadow ray when shadows are on: the course's
@@ -81,13 +93,16 @@ Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, Tra
     RayRecord* record = record_of(context);
     const Vec3f ambient = scene.ambient * material.diffuse;
     Vec3f color = ambient;
+    // Every shadow ray leaves the point by the same distance.
+    const float offset =
+        integrator.options.shadows ? ray_offset_distance(frame.surface.position, frame.travel_scale) : 0.0f;
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const Illumination arriving = illuminate(scene.lights[i], frame.surface.position);
         Vec3f transmittance{1, 1, 1};
-        if (integrator.options.shadows) {
+        const bool shadow_ray = integrator.options.shadows && needs_shadow_ray(scene, material, frame, arriving);
+        if (shadow_ray) {
             const Vec3f origin =
-                offset_ray_origin(frame.surface.position, frame.surface.geometric_normal, arriving.to_light,
-                                  frame.travel_scale);
+                offset_ray_origin_by(frame.surface.position, frame.surface.geometric_normal, arriving.to_light, offset);
             transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context,
                                                 static_cast<int>(i));
         }
@@ -104,7 +119,7 @@ Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, Tra
         }
         if (record)
             record->lights.push_back({static_cast<uint32_t>(i), arriving.to_light, arriving.distance, arriving.color,
-                                      transmittance, terms.diffuse, terms.specular, contribution});
+                                      transmittance, terms.diffuse, terms.specular, contribution, shadow_ray});
     }
     if (record) {
         record->ambient = ambient;
@@ -117,12 +132,22 @@ Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, Tra
 // colour along the mirror direction, plus transparentColor times the colour along the refracted
 // direction, each traced while the depth is below the bounce limit and the path's weight stays at
 // or above the cutoff. With 0 bounces and no shadows this is exactly the course's ray caster.
+//
+// The hit and the miss are two functions: a miss (most of many frames) costs a test and the
+// background, not the stack frame that shading a hit needs.
+Vec3f whitted_hit_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context);
+
 Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit, TraceContext& context) {
+    if (!hit.is_hit()) return finish(context, integrator.scene.background);
+    return whitted_hit_radiance(integrator, ray, hit, context);
+}
+
+[[gnu::noinline]] Vec3f whitted_hit_radiance(const Integrator& integrator, const Ray& ray, const Hit& hit,
+                                             TraceContext& context) {
     const Scene& scene = integrator.scene;
     RayRecord* record = record_of(context);
-    if (!hit.is_hit()) return finish(context, scene.background);
     const CameraShadows* prepared = context.depth == 0 ? context.camera_shadows : nullptr;
-    const ShadingFrame frame = shading_frame(scene, ray, hit, prepared && prepared->known ? &prepared->surface : nullptr);
+    const ShadingFrame frame = shading_frame(scene, ray, hit, prepared && prepared->surface_found ? &prepared->surface : nullptr);
     record_surface(context, hit, frame.surface);
     if (record) {
         record->shading_normal = frame.normal;
@@ -145,13 +170,14 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
         // shading: MIT's rule for telling entering from leaving.
         const Vec3f normal = frame.surface.normal;
         const Vec3f plane_normal = frame.surface.geometric_normal;  // which side new rays leave on
+        const float offset = ray_offset_distance(frame.surface.position, frame.travel_scale);
         if (reflects) {
             TraceContext child = context;
             child.depth = context.depth + 1;
             child.weight = context.weight * length(material.reflective);
             if (child.weight >= integrator.options.weight_cutoff) {
                 const Vec3f mirrored = mirror_direction(direction, normal);
-                const Ray reflected{offset_ray_origin(frame.surface.position, plane_normal, mirrored, frame.travel_scale),
+                const Ray reflected{offset_ray_origin_by(frame.surface.position, plane_normal, mirrored, offset),
                                     mirrored};
                 const Vec3f incoming = trace_ray(integrator, reflected, RayKind::Reflected, material.reflective, context, child);
                 const Vec3f term = material.reflective * incoming;
@@ -177,7 +203,7 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
                 if (record) record->total_internal_reflection = true;
             } else {
                 const Ray transmitted{
-                    offset_ray_origin(frame.surface.position, plane_normal, refracted, frame.travel_scale), refracted};
+                    offset_ray_origin_by(frame.surface.position, plane_normal, refracted, offset), refracted};
                 const Vec3f incoming =
                     trace_ray(integrator, transmitted, RayKind::Transmitted, material.transparent, context, child);
                 const Vec3f term = material.transparent * incoming;
@@ -234,14 +260,14 @@ Vec3f ambient_occlusion_radiance(const Integrator& integrator, const Ray& ray, c
     const SurfacePoint surface = surface_at(scene, ray, hit);
     record_surface(context, hit, surface);
     const Vec3f normal = dot(surface.normal, ray.direction) > 0 ? -surface.normal : surface.normal;
-    const float travel_scale = ray_travel_scale(ray.origin, ray.direction, hit.t);
+    const float offset = ray_offset_distance(surface.position, ray_travel_scale(ray.origin, ray.direction, hit.t));
     const int samples = std::max(1, integrator.options.ao_samples);
     int open = 0;
     for (int i = 0; i < samples; ++i) {
         const Vec3f direction = sample_cosine_hemisphere(normal, context.sampler->next_2d());
         if (!take_ray(context)) break;
         ++context.counts->occlusion;
-        const Ray probe{offset_ray_origin(surface.position, surface.geometric_normal, direction, travel_scale), direction};
+        const Ray probe{offset_ray_origin_by(surface.position, surface.geometric_normal, direction, offset), direction};
         const bool blocked = occluded(scene, probe, 0, integrator.ao_distance);
         open += blocked ? 0 : 1;
         if (context.tree) {
@@ -432,18 +458,21 @@ bool traces_camera_shadows(const Integrator& integrator) {
 void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
                           int count, CameraShadows* shadows) {
     const Scene& scene = integrator.scene;
-    // Each hit's point as local shading sees it (shading_frame and local_shading above).
-    Vec3f positions[kMaxPacketLanes], plane_normals[kMaxPacketLanes];
-    float travel_scales[kMaxPacketLanes];
+    // Each hit as local shading sees it (whitted_hit_radiance and local_shading above).
+    ShadingFrame frames[kMaxPacketLanes];
+    float offsets[kMaxPacketLanes];
     int lane_of[kMaxPacketLanes];
     int hit_count = 0;
     for (int k = 0; k < count; ++k) {
         shadows[k] = CameraShadows{};
         if (!hits[k].is_hit()) continue;
-        const SurfacePoint& surface = shadows[k].surface = surface_at(scene, rays[k], hits[k]);
-        positions[hit_count] = surface.position;
-        plane_normals[hit_count] = surface.geometric_normal;
-        travel_scales[hit_count] = ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t);
+        shadows[k].surface = surface_at(scene, rays[k], hits[k]);
+        shadows[k].surface_found = true;
+        const ShadingFrame frame = shading_frame(scene, rays[k], hits[k], &shadows[k].surface);
+        if (frame.back_face && !scene.conventions.shade_back_faces && scene.conventions.black_back_faces)
+            continue;  // black, unlit
+        frames[hit_count] = frame;
+        offsets[hit_count] = ray_offset_distance(frame.surface.position, frame.travel_scale);
         lane_of[hit_count++] = k;
     }
     if (hit_count == 0) return;
@@ -452,17 +481,24 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         Ray shadow_rays[kMaxPacketLanes];
         float t_max[kMaxPacketLanes];
         bool blocked[kMaxPacketLanes];
+        int traced_lane[kMaxPacketLanes];  // the hit of each ray
+        int ray_count = 0;
         for (int h = 0; h < hit_count; ++h) {
-            const Illumination arriving = illuminate(scene.lights[i], positions[h]);
-            shadow_rays[h] = {offset_ray_origin(positions[h], plane_normals[h], arriving.to_light, travel_scales[h]),
-                              arriving.to_light};
-            t_max[h] = arriving.distance;
+            const SurfacePoint& surface = frames[h].surface;
+            const Illumination arriving = illuminate(scene.lights[i], surface.position);
+            if (!needs_shadow_ray(scene, scene.materials[surface.material], frames[h], arriving)) continue;
+            shadow_rays[ray_count] = {
+                offset_ray_origin_by(surface.position, surface.geometric_normal, arriving.to_light, offsets[h]),
+                arriving.to_light};
+            t_max[ray_count] = arriving.distance;
+            traced_lane[ray_count++] = h;
         }
-        tracer.occluded(shadow_rays, hit_count, 0, t_max, blocked);
-        for (int h = 0; h < hit_count; ++h) {
-            CameraShadows& answers = shadows[lane_of[h]];
+        if (ray_count == 0) continue;
+        tracer.occluded(shadow_rays, ray_count, 0, t_max, blocked);
+        for (int r = 0; r < ray_count; ++r) {
+            CameraShadows& answers = shadows[lane_of[traced_lane[r]]];
             answers.known |= uint64_t{1} << i;
-            answers.blocked |= uint64_t{blocked[h]} << i;
+            answers.blocked |= uint64_t{blocked[r]} << i;
         }
     }
 }

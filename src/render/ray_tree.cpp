@@ -74,6 +74,7 @@ void write_ray(JsonWriter& json, const RayTree& tree, const std::vector<std::vec
             vec_field(json, "diffuse", light.diffuse);
             vec_field(json, "specular", light.specular);
             vec_field(json, "contribution", light.contribution);
+            json.field("shadow_ray", light.shadow_ray);
             json.close('}');
         }
         json.close(']');

@@ -30,6 +30,9 @@ struct LightTerm {
     Vec3f diffuse;         ///< kd·max(0, N·L), before the light's colour
     Vec3f specular;        ///< ks·(the model's specular factor), before the light's colour
     Vec3f contribution;    ///< arriving ⊙ transmittance-gated (diffuse + specular)
+    /// Whether a shadow ray was traced for it: with shadows on, none is where the light adds
+    /// nothing (diffuse and specular both zero).
+    bool shadow_ray = false;
 };
 
 /// One ray and what became of it.

@@ -177,6 +177,9 @@ private:
         // tiles, rendered by different threads at once, share cache lines of the image (a row of
         // 16 pixels is 48 bytes), which pixel-by-pixel writes would bounce between cores.
         std::vector<Vec3f> tile_colors, tile_normals;
+        // Image-plane coordinates of the tile's columns and rows (camera_plane_x/y), when every
+        // pixel has one ray through its own point: found once each rather than per pixel.
+        std::vector<float> plane_x, plane_y;
     };
 
     void render_tile(int x_begin, int y_begin, int x_end, int y_end, WorkerState& worker) {
@@ -189,6 +192,17 @@ private:
         const int block_w = packet_width_ >= 16 ? 4 : (packet_width_ >= 4 ? 2 : 1);
         const int block_h = packet_width_ / block_w > 0 ? packet_width_ / block_w : 1;
         const Camera& camera = camera_;
+        const bool pixel_centres = spp_ == 1 && camera.lens_radius <= 0;
+        if (pixel_centres) {
+            worker.plane_x.resize(static_cast<size_t>(tile_width));
+            worker.plane_y.resize(static_cast<size_t>(y_end - y_begin));
+            for (int x = x_begin; x < x_end; ++x)
+                worker.plane_x[static_cast<size_t>(x - x_begin)] =
+                    camera_plane_x(camera, static_cast<float>(x + frame_.x_offset) + camera.pixel_offset);
+            for (int y = y_begin; y < y_end; ++y)
+                worker.plane_y[static_cast<size_t>(y - y_begin)] =
+                    camera_plane_y(camera, static_cast<float>(y + frame_.y_offset) + camera.pixel_offset);
+        }
         Ray rays[kMaxPacketLanes];
         Hit hits[kMaxPacketLanes];
         uint64_t nodes[kMaxPacketLanes];
@@ -209,7 +223,11 @@ private:
                     }
                 for (int s = 0; s < spp_; ++s) {
                     for (int k = 0; k < count; ++k) {
-                        rays[k] = camera_sample_ray(camera, camera_x[k], camera_y[k], s, spp_);
+                        rays[k] = pixel_centres
+                                      ? camera_ray_at(camera,
+                                                      worker.plane_x[static_cast<size_t>(camera_x[k] - frame_.x_offset - x_begin)],
+                                                      worker.plane_y[static_cast<size_t>(camera_y[k] - frame_.y_offset - y_begin)])
+                                      : camera_sample_ray(camera, camera_x[k], camera_y[k], s, spp_);
                         hits[k] = Hit{};
                         nodes[k] = 0;
                     }

@@ -298,9 +298,11 @@ TEST(RenderTest, ShadowPacketsGiveTheSameImageAndCountsAsSingleRays) {
             single.shadows = true;
             RenderStats stats;
             const Image reference = render_image(scenes[k], single, &stats);
-            // Something casts a shadow, and every hit sent one ray per light.
+            // Something casts a shadow; a hit sends at most one ray per light (none towards a
+            // light that adds nothing there).
             EXPECT_FALSE(same_bytes(reference, unshadowed)) << names[k];
-            EXPECT_EQ(stats.shadow_rays, stats.hits * scenes[k].lights.size()) << names[k];
+            EXPECT_GT(stats.shadow_rays, 0u) << names[k];
+            EXPECT_LE(stats.shadow_rays, stats.hits * scenes[k].lights.size()) << names[k];
             for (PacketIsa isa : available_isas()) {
                 if (isa == PacketIsa::None) continue;
                 RenderOptions packets = single;
@@ -376,8 +378,9 @@ TEST(RenderTest, ThreadsAndTileSizesDoNotChangeTheImage) {
                     EXPECT_EQ(stats.threads, threads);
                     EXPECT_EQ(stats.rays, reference_stats.rays);
                     EXPECT_EQ(stats.primary_rays, static_cast<uint64_t>(37 * 29 * spp));
-                    // rays counts every ray: one shadow ray per light from every hit, here.
-                    EXPECT_EQ(stats.shadow_rays, scene.lights.size() * stats.hits);
+                    // rays counts every ray: at most one shadow ray per light from every hit.
+                    EXPECT_EQ(stats.shadow_rays, reference_stats.shadow_rays);
+                    EXPECT_LE(stats.shadow_rays, scene.lights.size() * stats.hits);
                     EXPECT_EQ(stats.rays, stats.primary_rays + stats.shadow_rays);
                     EXPECT_EQ(stats.hits, reference_stats.hits);
                 }

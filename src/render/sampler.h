@@ -65,17 +65,22 @@ inline Vec3f sample_cosine_hemisphere(Vec3f normal, Vec2f u) {
 /// independent of the pixel's position offsets and lens point above.
 class Sampler {
 public:
+    // The seed is found at the first draw: most camera samples (a Whitted render's) draw none.
     Sampler(uint32_t pixel_index, int sample_index)
-        : seed_(hash32(pixel_index * 0x85ebca6bU ^ hash32(static_cast<uint32_t>(sample_index) + 0x27d4eb2fU))) {}
+        : pixel_index_(pixel_index), sample_index_(static_cast<uint32_t>(sample_index)) {}
 
-    float next_1d() { return unit_float(hash32(seed_ ^ hash32(index_++ * 0x9e3779b9U + 0x165667b1U))); }
+    float next_1d() {
+        if (index_ == 0) seed_ = hash32(pixel_index_ * 0x85ebca6bU ^ hash32(sample_index_ + 0x27d4eb2fU));
+        return unit_float(hash32(seed_ ^ hash32(index_++ * 0x9e3779b9U + 0x165667b1U)));
+    }
     Vec2f next_2d() {
         const float u = next_1d();
         return {u, next_1d()};
     }
 
 private:
-    uint32_t seed_;
+    uint32_t pixel_index_, sample_index_;
+    uint32_t seed_ = 0;
     uint32_t index_ = 0;
 };
 

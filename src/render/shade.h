@@ -3,6 +3,8 @@
 // new ray leave the surface it starts on. The integrators (render/integrator.h) put them together.
 #pragma once
 
+#include <cmath>
+
 #include "math/ray.h"
 #include "scene/conventions.h"
 #include "scene/material.h"
@@ -15,10 +17,72 @@ struct LightReflection {
     Vec3f specular;  ///< ks times the model's specular factor
 };
 
+namespace shade_detail {
+
+// max(0, x), with NaN giving 0 as std::fmax does; written as a comparison because GCC calls
+// fmaxf as a library function.
+inline float positive_part(float x) { return x > 0 ? x : 0.0f; }
+
+// std::pow(base, exponent) for base >= 0 (or NaN), skipping the call where the answer is known:
+// half the lit points face away from the highlight, and powf is the dearest step of shading.
+inline float specular_power(float base, float exponent) {
+    if (base == 0 && exponent > 0) return 0;
+    return std::pow(base, exponent);
+}
+
+}  // namespace shade_detail
+
 /// The reflection model for one light: colour leaving the surface towards `to_viewer` lit from
-/// `to_light` (all unit vectors), split into its two terms.
-LightReflection reflect_light_terms(const Material& material, SpecularModel model, Vec3f normal, Vec3f to_light,
-                                    Vec3f to_viewer);
+/// `to_light` (all unit vectors), split into its two terms. Inline, as are the other per-hit
+/// helpers here: shading calls it for every light at every hit, and a call returns its two
+/// colours through memory.
+inline LightReflection reflect_light_terms(const Material& material, SpecularModel model, Vec3f normal,
+                                           Vec3f to_light, Vec3f to_viewer) {
+    using shade_detail::positive_part;
+    using shade_detail::specular_power;
+    const float n_dot_l = dot(normal, to_light);
+    const Vec3f diffuse = material.diffuse * positive_part(n_dot_l);
+    float specular = 0;
+    switch (model) {
+        case SpecularModel::Phong: {
+            // The handout's formula, term for term: R = 2(L·N)N − L and ks·max(0, V·R)^s, with no
+            // gate on L·N (the course's reference images have none).
+            const Vec3f reflected = 2 * n_dot_l * normal - to_light;
+            specular = specular_power(positive_part(dot(to_viewer, reflected)), material.shininess);
+            break;
+        }
+        case SpecularModel::BlinnClampedByNdotL:
+        case SpecularModel::BlinnTimesNdotL: {
+            const Vec3f half_vector = normalize(to_light + to_viewer);
+            specular = specular_power(positive_part(dot(normal, half_vector)), material.shininess);
+            if (model == SpecularModel::BlinnClampedByNdotL && !(n_dot_l > 0)) specular = 0;
+            if (model == SpecularModel::BlinnTimesNdotL) specular *= positive_part(n_dot_l);
+            break;
+        }
+    }
+    return {diffuse, material.specular * specular};
+}
+
+/// Whether reflect_light_terms is exactly zero, both terms, for these vectors, found without
+/// the power where it can be: then a shadow ray towards the light cannot change the colour and is
+/// not traced (as pbrt does). Assumes finite material colours (the parser admits no others).
+/// True only where the terms are zero; false says nothing.
+inline bool reflects_no_light(const Material& material, SpecularModel model, Vec3f normal, Vec3f to_light,
+                              Vec3f to_viewer) {
+    const float n_dot_l = dot(normal, to_light);
+    if (n_dot_l > 0) return false;  // kd·(N·L)
+    switch (model) {
+        case SpecularModel::Phong: {
+            // The power of a base of 0 is 0 for a positive exponent (1 for 0).
+            const Vec3f reflected = 2 * n_dot_l * normal - to_light;
+            return material.shininess > 0 && !(dot(to_viewer, reflected) > 0);
+        }
+        case SpecularModel::BlinnClampedByNdotL: return true;
+        case SpecularModel::BlinnTimesNdotL: break;  // 0 times the power: zero unless that overflows
+    }
+    const LightReflection terms = reflect_light_terms(material, model, normal, to_light, to_viewer);
+    return terms.diffuse == Vec3f{0, 0, 0} && terms.specular == Vec3f{0, 0, 0};
+}
 
 /// The same, summed: diffuse + specular.
 inline Vec3f reflect_light(const Material& material, SpecularModel model, Vec3f normal, Vec3f to_light,
@@ -38,11 +102,28 @@ bool refract_direction(Vec3f d, Vec3f n, float from_index, float to_index, Vec3f
 
 /// How large the numbers were that a hit point o + t·d came from: max|o| + |t|·max|d|. A point
 /// near the origin seen from far away is only as accurate as the long ray that found it.
-float ray_travel_scale(Vec3f origin, Vec3f direction, float t);
+inline float ray_travel_scale(Vec3f origin, Vec3f direction, float t) {
+    const auto max_abs = [](Vec3f v) { return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z))); };
+    const float scale = max_abs(origin) + std::fabs(t) * max_abs(direction);
+    return std::isfinite(scale) ? scale : 0.0f;
+}
+
+/// How far offset_ray_origin moves a point found by a ray of `travel_scale` (ray_travel_scale):
+/// far enough that a ray starting there cannot hit the surface it left.
+float ray_offset_distance(Vec3f position, float travel_scale);
+
+/// `position` moved `distance` (ray_offset_distance) along `normal`, to the side of `side`: for
+/// the many rays that leave one point, which need the distance only once.
+inline Vec3f offset_ray_origin_by(Vec3f position, Vec3f normal, Vec3f side, float distance) {
+    const Vec3f n = dot(normal, side) < 0 ? -normal : normal;
+    return position + n * distance;
+}
 
 /// A point nudged off a surface along its normal, towards `side`, far enough that a ray starting
 /// there cannot hit the surface it left (used for shadow, reflected and transmitted rays).
 /// `travel_scale` is ray_travel_scale of the ray that found the point.
-Vec3f offset_ray_origin(Vec3f position, Vec3f normal, Vec3f side, float travel_scale);
+inline Vec3f offset_ray_origin(Vec3f position, Vec3f normal, Vec3f side, float travel_scale) {
+    return offset_ray_origin_by(position, normal, side, ray_offset_distance(position, travel_scale));
+}
 
 }  // namespace raycast

@@ -104,6 +104,58 @@ TEST(ReflectLightTest, BlinnModelsMatchHandValues) {
     expect_vec_near(reflect_light(m, SpecularModel::BlinnTimesNdotL, kN, grazing, kN), {0, 0, 0});
 }
 
+// reflects_no_light: where a shadow ray could change nothing.
+
+TEST(ReflectsNoLightTest, ALightBehindTheSurfaceWithNoHighlightGivesNothing) {
+    // L = (0, 0, −1) straight below the surface, V = N: R = 2·(−1)·N − L = (0, 0, −1), V·R = −1.
+    const Vec3f below{0, 0, -1};
+    const Material m = phong({1, 1, 1}, {1, 1, 1}, 10);
+    for (SpecularModel model :
+         {SpecularModel::Phong, SpecularModel::BlinnClampedByNdotL, SpecularModel::BlinnTimesNdotL}) {
+        EXPECT_TRUE(reflects_no_light(m, model, kN, below, kN)) << static_cast<int>(model);
+        expect_vec_near(reflect_light(m, model, kN, below, kN), {0, 0, 0});
+    }
+    // A shininess of 0 makes the highlight ks·0⁰ = ks everywhere: the light adds something.
+    const Material flat = phong({1, 1, 1}, {1, 1, 1}, 0);
+    EXPECT_FALSE(reflects_no_light(flat, SpecularModel::Phong, kN, below, kN));
+    expect_vec_near(reflect_light(flat, SpecularModel::Phong, kN, below, kN), {1, 1, 1});
+    // Lit from above (N·L = 0.8) or showing the highlight of a light below (V·R = 0.6, the test
+    // above): something.
+    EXPECT_FALSE(reflects_no_light(m, SpecularModel::Phong, kN, kL, kN));
+    EXPECT_FALSE(reflects_no_light(m, SpecularModel::Phong, kN, {0, 0.8f, -0.6f}, {0, -0.96f, 0.28f}));
+}
+
+TEST(ReflectsNoLightTest, IsTrueOnlyWhereBothTermsAreZero) {
+    // Random unit vectors and materials, for every model: wherever it says "nothing", the terms
+    // are exactly zero; and it says so at about a quarter of them (lights behind, no highlight).
+    uint32_t state = 12345;
+    const auto next = [&state] {
+        state = state * 1664525u + 1013904223u;
+        return static_cast<float>(state >> 8) / 16777216.0f;
+    };
+    const auto unit = [&] {
+        for (;;) {
+            const Vec3f v{2 * next() - 1, 2 * next() - 1, 2 * next() - 1};
+            if (dot(v, v) > 0.01f && dot(v, v) <= 1) return normalize(v);
+        }
+    };
+    for (SpecularModel model :
+         {SpecularModel::Phong, SpecularModel::BlinnClampedByNdotL, SpecularModel::BlinnTimesNdotL}) {
+        int nothing = 0;
+        const int trials = 20000;
+        for (int i = 0; i < trials; ++i) {
+            const Material m = phong({next(), next(), next()}, {next(), next(), next()}, next() < 0.1f ? 0 : 100 * next());
+            const Vec3f n = unit(), l = unit(), v = unit();
+            if (!reflects_no_light(m, model, n, l, v)) continue;
+            ++nothing;
+            const LightReflection terms = reflect_light_terms(m, model, n, l, v);
+            ASSERT_EQ(terms.diffuse, (Vec3f{0, 0, 0})) << static_cast<int>(model) << " trial " << i;
+            ASSERT_EQ(terms.specular, (Vec3f{0, 0, 0})) << static_cast<int>(model) << " trial " << i;
+        }
+        EXPECT_GT(nothing, trials / 8) << static_cast<int>(model);
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // shade: whole scenes.
 

@@ -29,15 +29,22 @@ struct Camera {
 /// Requires a valid description (the parser checks direction, up and angle).
 Camera make_camera(const CameraDesc& desc, int width, int height, const Conventions& conventions);
 
+/// The two halves of camera_ray below: the image-plane point in camera units, a = (px − cx)/fx along
+/// `horizontal` and b = (py − cy)/fy along `up`, depends on one pixel coordinate each, so a
+/// renderer can find them once per column and row; camera_ray_at makes the same ray from them.
+inline float camera_plane_x(const Camera& camera, float px) { return (px - camera.cx) / camera.fx; }
+inline float camera_plane_y(const Camera& camera, float py) { return (py - camera.cy) / camera.fy; }
+inline Ray camera_ray_at(const Camera& camera, float a, float b) {
+    if (camera.projection == Camera::Projection::Orthographic)
+        return {camera.center + a * camera.horizontal + b * camera.up, camera.direction};
+    return {camera.center, normalize(a * camera.horizontal + b * camera.up + camera.direction)};
+}
+
 /// The ray through the point (px, py) of the image plane, in pixel units: the course's pixel
 /// (x, y) is the point (x + pixel_offset, y + pixel_offset).
 /// Inline: the renderer calls it once per pixel, and a call returns the ray through memory.
 inline Ray camera_ray(const Camera& camera, float px, float py) {
-    const float a = (px - camera.cx) / camera.fx;
-    const float b = (py - camera.cy) / camera.fy;
-    if (camera.projection == Camera::Projection::Orthographic)
-        return {camera.center + a * camera.horizontal + b * camera.up, camera.direction};
-    return {camera.center, normalize(a * camera.horizontal + b * camera.up + camera.direction)};
+    return camera_ray_at(camera, camera_plane_x(camera, px), camera_plane_y(camera, py));
 }
 
 /// The same through a thin lens: (lens_u, lens_v) in [0, 1)² picks the point on the aperture.
