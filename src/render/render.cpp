@@ -222,12 +222,17 @@ private:
                         ++count;
                     }
                 for (int s = 0; s < spp_; ++s) {
+                    if (pixel_centres) {
+                        float a[kMaxPacketLanes], b[kMaxPacketLanes];
+                        for (int k = 0; k < count; ++k) {
+                            a[k] = worker.plane_x[static_cast<size_t>(camera_x[k] - frame_.x_offset - x_begin)];
+                            b[k] = worker.plane_y[static_cast<size_t>(camera_y[k] - frame_.y_offset - y_begin)];
+                        }
+                        camera_rays_at(camera, a, b, count, rays);
+                    } else {
+                        for (int k = 0; k < count; ++k) rays[k] = camera_sample_ray(camera, camera_x[k], camera_y[k], s, spp_);
+                    }
                     for (int k = 0; k < count; ++k) {
-                        rays[k] = pixel_centres
-                                      ? camera_ray_at(camera,
-                                                      worker.plane_x[static_cast<size_t>(camera_x[k] - frame_.x_offset - x_begin)],
-                                                      worker.plane_y[static_cast<size_t>(camera_y[k] - frame_.y_offset - y_begin)])
-                                      : camera_sample_ray(camera, camera_x[k], camera_y[k], s, spp_);
                         hits[k] = Hit{};
                         nodes[k] = 0;
                     }
