@@ -243,9 +243,10 @@ for i in "${!names[@]}"; do
     result[$name,mrays_single]=$(mrays "$rays" "$best_render_ms")
     best_render "$scene" "out/${name}_spp16.bmp" "$raycast" -- --spp 16
     result[$name,mrays_spp16]=$(mrays "$(field "$best_line" rays)" "$best_render_ms")
-    # Shadows: each hit sends one ray to each of the two lights.
+    # Shadows: the rays traced as --stats counts them (at most one per hit and light: none
+    # towards a light that adds nothing at the hit).
     best_render "${name}_lights.txt" "out/${name}_shadows.bmp" "$raycast" -- --shadows
-    result[$name,mrays_shadows]=$(mrays "$(calc "$rays * (1 + 2 * $hit_fraction)")" "$best_render_ms")
+    result[$name,mrays_shadows]=$(mrays "$(field "$best_line" rays)" "$best_render_ms")
     if [ "$has_ao" = 1 ]; then
         best_render "$scene" "out/${name}_ao.bmp" "$raycast" -- --mode ao
         result[$name,mrays_ao]=$(mrays "$(field "$best_line" rays)" "$best_render_ms")
