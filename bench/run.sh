@@ -3,6 +3,7 @@
 #   bash bench/run.sh                      # bumpy spheres of 1k, 100k, 1M and 5M triangles, then the course scenes
 #   bash bench/run.sh --quick              # 1k and 100k only
 #   bash bench/run.sh --baseline OLD/raycast   # also time another raycast binary in the same run
+#   bash bench/run.sh --repeat 5           # best of 5 runs per figure (default 3), for a noisy machine
 # Builds Release in build-bench/, generates the meshes once (cached in build-bench/meshes/), renders
 # each at 1024x1024 on 2 threads with --stats (primary rays with and without packets, --spp 16,
 # --shadows with a directional and a point light, and --mode ao when the build has it), runs
@@ -16,14 +17,18 @@ root=$(pwd)
 
 quick=0
 baseline=""
+repeat=3
 while [ $# -gt 0 ]; do
     case "$1" in
         --quick) quick=1 ;;
         --baseline)
             [ $# -ge 2 ] || { echo "bench/run.sh: --baseline needs a raycast binary" >&2; exit 2; }
             baseline=$(cd "$(dirname "$2")" && pwd)/$(basename "$2"); shift ;;
-        -h|--help) sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-        *) echo "bench/run.sh: unknown argument '$1' (use --quick or --baseline BINARY)" >&2; exit 2 ;;
+        --repeat)
+            [[ $# -ge 2 && $2 =~ ^[1-9][0-9]*$ ]] || { echo "bench/run.sh: --repeat needs a count of runs" >&2; exit 2; }
+            repeat=$2; shift ;;
+        -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        *) echo "bench/run.sh: unknown argument '$1' (use --quick, --baseline BINARY or --repeat N)" >&2; exit 2 ;;
     esac
     shift
 done
@@ -32,7 +37,6 @@ done
 build=build-bench
 threads=2
 size=1024x1024
-repeat=3
 seed=1
 log() { echo "bench: $*" >&2; }
 tmp=$(mktemp -d)
