@@ -188,9 +188,12 @@ private:
         const size_t tile_pixels = static_cast<size_t>(tile_width) * static_cast<size_t>(y_end - y_begin);
         worker.tile_colors.resize(tile_pixels);
         if (targets_.normal_bytes) worker.tile_normals.resize(tile_pixels);
-        // Blocks of pixels small enough to form one packet of coherent rays.
-        const int block_w = packet_width_ >= 16 ? 4 : (packet_width_ >= 4 ? 2 : 1);
-        const int block_h = packet_width_ / block_w > 0 ? packet_width_ / block_w : 1;
+        // Blocks of pixels small enough to form one packet of coherent rays. Single rays go in
+        // blocks of 8 too, traced one by one: their camera rays are then made 8 at a time, whose
+        // square roots and divisions vectorise, and the block's bookkeeping is paid once.
+        const int block_lanes = packet_width_ > 1 ? packet_width_ : 8;
+        const int block_w = block_lanes >= 16 ? 4 : (block_lanes >= 4 ? 2 : 1);
+        const int block_h = block_lanes / block_w;
         const Camera& camera = camera_;
         const bool pixel_centres = spp_ == 1 && camera.lens_radius <= 0;
         if (pixel_centres) {
