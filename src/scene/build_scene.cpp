@@ -323,6 +323,25 @@ private:
         bvh_options.max_leaf_size = 2;
         bvh_options.threads = options_.threads;
         scene_.instance_bvh = build_bvh(std::move(bounds_), bvh_options);
+        test_cheap_shapes_first();
+    }
+
+    // A leaf's instances are tested in turn, each culled by the nearest hit found so far, so a
+    // sphere or a triangle tested first lets the BVH of a mesh (or a surface of revolution)
+    // behind it stop at its root, where tested the other way round the mesh is searched to its
+    // own hit for nothing: a mesh inside a glass ball cost 1.8x the render time when it came
+    // first in the file. The order changes no hit: is_closer() breaks ties by object id.
+    void test_cheap_shapes_first() {
+        auto costly = [this](uint32_t id) {
+            const ShapeKind kind = scene_.instances[id].kind;
+            return kind == ShapeKind::Mesh || kind == ShapeKind::RevSurface;
+        };
+        Bvh& bvh = scene_.instance_bvh;
+        for (const BvhNode& node : bvh.nodes) {
+            if (!node.is_leaf()) continue;
+            auto first = bvh.prim_order.begin() + node.first;
+            std::stable_partition(first, first + node.count, [&](uint32_t id) { return !costly(id); });
+        }
     }
 
     SceneDesc& desc_;

@@ -255,6 +255,69 @@ TEST(BuildSceneTest, TwoDifferentMeshesAreStoredSeparately) {
     EXPECT_EQ(scene.meshes[scene.instances[1].shape].triangle_count, 12u);
 }
 
+// A flat n-by-n grid of squares over [-1, 1]² at z = 0, two triangles each: enough triangles
+// for a mesh BVH of several levels.
+TriangleMesh grid_mesh(int n) {
+    TriangleMesh mesh;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            mesh.positions.push_back({2.0f * static_cast<float>(i) / static_cast<float>(n) - 1,
+                                      2.0f * static_cast<float>(j) / static_cast<float>(n) - 1, 0});
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const uint32_t a = static_cast<uint32_t>(j * (n + 1) + i), b = a + 1,
+                           c = a + static_cast<uint32_t>(n + 1), d = c + 1;
+            mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+        }
+    return mesh;
+}
+
+// A leaf of the instance BVH tests its instances in turn, each culled by the nearest hit so far:
+// the ball is tested before the mesh inside it, whichever comes first in the file, so that a ray
+// that meets the ball stops at the mesh's root. The hit is the ball's either way.
+TEST(BuildSceneTest, ABallIsTestedBeforeTheMeshInsideItWhateverTheFileOrder) {
+    auto build_in_order = [](bool mesh_first) {
+        std::vector<ObjectDesc> objects;
+        objects.push_back(mesh_object(0));
+        objects.push_back(sphere({0, 0, 0}, 3));
+        if (!mesh_first) std::swap(objects[0], objects[1]);
+        SceneDesc desc = scene_with(group(std::move(objects)));
+        desc.meshes.push_back({"grid.obj", grid_mesh(16)});
+        return build_scene(std::move(desc), {});
+    };
+    const Scene mesh_first = build_in_order(true), ball_first = build_in_order(false);
+    ASSERT_EQ(mesh_first.instances[0].kind, ShapeKind::Mesh);
+    ASSERT_EQ(mesh_first.instances[1].kind, ShapeKind::Sphere);
+    for (const BvhNode& node : mesh_first.instance_bvh.nodes) {
+        if (!node.is_leaf()) continue;
+        const auto first = mesh_first.instance_bvh.prim_order.begin() + node.first;
+        const std::vector<uint32_t> leaf(first, first + node.count);
+        if (leaf.size() == 2) {
+            EXPECT_EQ(leaf, (std::vector<uint32_t>{1, 0})) << "the ball first";
+        }
+    }
+
+    const Ray ray{{0.1f, 0.2f, 10}, {0, 0, -1}};
+    Hit from_mesh_first, from_ball_first;
+    TraceCounters mesh_first_counters, ball_first_counters;
+    intersect(mesh_first, ray, 0, from_mesh_first, &mesh_first_counters);
+    intersect(ball_first, ray, 0, from_ball_first, &ball_first_counters);
+    EXPECT_EQ(from_mesh_first.object, 1u);
+    EXPECT_EQ(from_ball_first.object, 0u);
+    // The ball's near side: z = sqrt(9 - 0.1² - 0.2²), from z = 10.
+    EXPECT_NEAR(from_mesh_first.t, 10 - std::sqrt(9 - 0.05f), 1e-5);
+    EXPECT_EQ(from_mesh_first.t, from_ball_first.t);
+    // Only the mesh's root was opened: as many boxes tested as the ball-first scene tests.
+    EXPECT_EQ(mesh_first_counters.nodes_visited, ball_first_counters.nodes_visited);
+
+    // Without the ball in the way, the same ray searches deeper into the mesh.
+    Hit mesh_only;
+    TraceCounters mesh_only_counters;
+    intersect(mesh_first, Ray{{0.1f, 0.2f, 2}, {0, 0, -1}}, 0, mesh_only, &mesh_only_counters);
+    EXPECT_EQ(mesh_only.object, 0u);
+    EXPECT_GT(mesh_only_counters.nodes_visited, mesh_first_counters.nodes_visited);
+}
+
 const char* const kSingularMessage =
     "this transform cannot be inverted (it squashes space flat): check for a zero scale";
 
