@@ -1,6 +1,7 @@
 #include "render/shade.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 namespace raycast {
@@ -22,13 +23,20 @@ bool refract_direction(Vec3f d, Vec3f n, float from_index, float to_index, Vec3f
 
 namespace {
 
-// The float just above |x| in magnitude, minus |x|: one unit in the last place.
+// The float just above |x| in magnitude, minus |x|: one unit in the last place. The next float
+// up from a non-negative one is the next bit pattern (std::nextafter's answer, without the
+// library call; +inf and NaN give NaN either way).
 float ulp(float x) {
     x = std::fabs(x);
-    return std::nextafter(x, INFINITY) - x;
+    uint32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    ++bits;
+    float next;
+    std::memcpy(&next, &bits, sizeof next);
+    return next - x;
 }
 
-float max_abs(Vec3f v) { return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z))); }
+using shade_detail::max_abs;
 
 }  // namespace
 

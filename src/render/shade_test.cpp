@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "render/integrator.h"
@@ -367,6 +368,35 @@ TEST(OffsetRayOriginTest, TheStepGrowsWithTheRayThatFoundThePoint) {
     // 16 ulps of 200 (ulp 1.5e-5) and 64 of 0.1 (ulp 7.5e-9): 2.4e-4 + 4.8e-7.
     EXPECT_NEAR(offset_ray_origin(p, n, n, 200).z, 16 * 1.52587891e-5f + 64 * 7.4505806e-9f, 1e-9f);
     EXPECT_GT(offset_ray_origin(p, n, n, 200).z, 100 * offset_ray_origin(p, n, n, 0).z);
+}
+
+// ray_offset_distance finds ulps from bit patterns and maxima by comparisons, not through
+// std::nextafter and std::fmax (library calls): the same floats, worked out here the library way
+// for ordinary, tiny, huge, zero, infinite and NaN coordinates.
+TEST(OffsetRayOriginTest, TheStepIsTheLibraryFormulaForEveryKindOfFloat) {
+    const auto library_ulp = [](float x) {
+        x = std::fabs(x);
+        return std::nextafter(x, INFINITY) - x;
+    };
+    const auto library_max_abs = [](Vec3f v) {
+        return std::fmax(std::fabs(v.x), std::fmax(std::fabs(v.y), std::fabs(v.z)));
+    };
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float values[] = {0.0f, -0.0f, 1e-45f, 1e-38f, 0.1f, -3.0f, 200.0f, 1e38f, -3.4e38f, INFINITY, -INFINITY, nan};
+    const auto same = [](float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); };
+    for (float a : values)
+        for (float b : values) {
+            const Vec3f p{a, b, 0.5f}, q{0.25f, a, b};
+            EXPECT_TRUE(same(shade_detail::max_abs(p), library_max_abs(p))) << a << ", " << b;
+            EXPECT_TRUE(same(shade_detail::max_abs(q), library_max_abs(q))) << a << ", " << b;
+            const float expected_scale = library_max_abs(p) + std::fabs(b) * library_max_abs(q);
+            EXPECT_TRUE(same(ray_travel_scale(p, q, b), std::isfinite(expected_scale) ? expected_scale : 0.0f))
+                << a << ", " << b;
+            const float expected = 64 * library_ulp(library_max_abs(p)) + 16 * library_ulp(b) + 1e-30f;
+            EXPECT_TRUE(same(ray_offset_distance(p, b), expected)) << a << ", " << b;
+        }
+    // Both NaN: NaN, as std::fmax gives.
+    EXPECT_TRUE(std::isnan(shade_detail::max_abs({nan, nan, nan})));
 }
 
 // Unit vector perpendicular to n.
