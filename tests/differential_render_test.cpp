@@ -38,7 +38,7 @@ std::string describe(const Hit& hit) {
     std::ostringstream text;
     text.precision(9);
     text << "{t " << hit.t << ", u " << hit.u << ", v " << hit.v << ", object " << hit.object << ", prim " << hit.prim
-         << ", leaf " << hit.leaf << "}";
+         << ", leaf " << hit.leaf << ", lane " << hit.lane << "}";
     return text.str();
 }
 
@@ -46,7 +46,7 @@ bool same_hit(const Hit& a, const Hit& b) {
     if (a.is_hit() != b.is_hit()) return false;
     if (!a.is_hit()) return true;
     return a.t == b.t && same_float(a.u, b.u) && same_float(a.v, b.v) && a.object == b.object && a.prim == b.prim &&
-           a.leaf == b.leaf;
+           a.leaf == b.leaf && a.lane == b.lane;
 }
 
 // The scene, the settings and, on failure, everything needed to reproduce it.

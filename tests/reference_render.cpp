@@ -24,7 +24,7 @@ ReferenceScene::ReferenceScene(const Scene& scene) : scene_(scene) {
             const uint32_t leaf = static_cast<uint32_t>(group - shape.groups.data());
             for (uint32_t lane = 0; lane < group_triangle_count(group); ++lane) {
                 const GroupTriangle tri = group_triangle(group, lane);
-                triangles.push_back({tri.p0, tri.p1, tri.p2, tri.id, leaf});
+                triangles.push_back({tri.p0, tri.p1, tri.p2, tri.id, leaf, lane});
             }
         }
         // The mesh's own order, as brute force over the file would test them.
@@ -34,7 +34,7 @@ ReferenceScene::ReferenceScene(const Scene& scene) : scene_(scene) {
     }
 }
 
-// Calls visit(t, u, v, object, prim, leaf) for the nearest hit (t > t_min) of every primitive.
+// Calls visit(t, u, v, object, prim, leaf, lane) for the nearest hit (t > t_min) of every primitive.
 // Triangles with no area are skipped: the scene's rule is that they are never hit
 // (geometry/triangle.h, is_degenerate_triangle).
 template <typename Visit>
@@ -48,23 +48,23 @@ void ReferenceScene::for_each_hit(const Ray& world_ray, float t_min, Visit&& vis
         TriangleHit hit;
         switch (instance.kind) {
             case ShapeKind::Sphere:
-                if (intersect_sphere(scene_.spheres[instance.shape], ray, t_min, t)) visit(t, 0.0f, 0.0f, id, 0u, 0u);
+                if (intersect_sphere(scene_.spheres[instance.shape], ray, t_min, t)) visit(t, 0.0f, 0.0f, id, 0u, 0u, 0u);
                 break;
             case ShapeKind::Plane:
-                if (intersect_plane(scene_.planes[instance.shape], ray, t_min, t)) visit(t, 0.0f, 0.0f, id, 0u, 0u);
+                if (intersect_plane(scene_.planes[instance.shape], ray, t_min, t)) visit(t, 0.0f, 0.0f, id, 0u, 0u, 0u);
                 break;
             case ShapeKind::Triangle: {
                 const TriangleShape& tri = scene_.triangles[instance.shape];
                 if (is_degenerate_triangle(tri.p0, tri.p1, tri.p2)) break;
                 if (intersect_triangle(make_watertight_ray(ray), tri.p0, tri.p1, tri.p2, t_min, hit))
-                    visit(hit.t, hit.u, hit.v, id, 0u, 0u);
+                    visit(hit.t, hit.u, hit.v, id, 0u, 0u, 0u);
                 break;
             }
             case ShapeKind::RevSurface: {
                 // The surface's own exact test, over the whole ray (no BVH above it to cull).
                 RevSurfaceHit rev;
                 if (intersect_rev_surface(scene_.rev_surfaces[instance.shape], ray, t_min, INFINITY, false, rev))
-                    visit(rev.t, rev.u, 0.0f, id, rev.piece, 0u);
+                    visit(rev.t, rev.u, 0.0f, id, rev.piece, 0u, 0u);
                 break;
             }
             case ShapeKind::Mesh: {
@@ -72,7 +72,7 @@ void ReferenceScene::for_each_hit(const Ray& world_ray, float t_min, Visit&& vis
                 for (const MeshTriangle& tri : triangles_[instance.shape]) {
                     if (!is_degenerate_triangle(tri.p0, tri.p1, tri.p2) &&
                         intersect_triangle(watertight, tri.p0, tri.p1, tri.p2, t_min, hit))
-                        visit(hit.t, hit.u, hit.v, id, tri.id, tri.leaf);
+                        visit(hit.t, hit.u, hit.v, id, tri.id, tri.leaf, tri.lane);
                 }
                 break;
             }
@@ -82,15 +82,16 @@ void ReferenceScene::for_each_hit(const Ray& world_ray, float t_min, Visit&& vis
 
 Hit ReferenceScene::intersect(const Ray& ray, float t_min) const {
     Hit best;
-    for_each_hit(ray, t_min, [&](float t, float u, float v, uint32_t object, uint32_t prim, uint32_t leaf) {
-        if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim, leaf};
+    for_each_hit(ray, t_min, [&](float t, float u, float v, uint32_t object, uint32_t prim, uint32_t leaf,
+                                 uint32_t lane) {
+        if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim, leaf, lane};
     });
     return best;
 }
 
 bool ReferenceScene::occluded(const Ray& ray, float t_min, float t_max) const {
     bool blocked = false;
-    for_each_hit(ray, t_min, [&](float t, float, float, uint32_t, uint32_t, uint32_t) { blocked |= t < t_max; });
+    for_each_hit(ray, t_min, [&](float t, float, float, uint32_t, uint32_t, uint32_t, uint32_t) { blocked |= t < t_max; });
     return blocked;
 }
 

@@ -35,6 +35,7 @@ private:
         Vec3f p0, p1, p2;
         uint32_t id = 0;    ///< the triangle's index in its mesh
         uint32_t leaf = 0;  ///< the first block of its group
+        uint32_t lane = 0;  ///< its place in the group
     };
 
     const Scene& scene_;

@@ -363,11 +363,14 @@ bool expect_same_as_brute_force(const Checked& checked, const Ray& ray, float t_
                       << "\n  brute force: " << describe(slow);
     if (!same) return false;
     if (fast.is_hit() && scene.instances[fast.object].kind == ShapeKind::Mesh) {
-        // surface_at finds the triangle's corners in the group that Hit::leaf names.
+        // surface_at finds the triangle's corners in the group and lane that Hit::leaf and
+        // Hit::lane name.
         const MeshShape& mesh = scene.meshes[scene.instances[fast.object].shape];
         const bool slot_ok = fast.leaf < mesh.groups.size() &&
-                             group_lane_of(&mesh.groups[fast.leaf], fast.prim) < group_triangle_count(&mesh.groups[fast.leaf]);
-        EXPECT_TRUE(slot_ok) << describe(ray, t_min) << ": group " << fast.leaf << " does not hold triangle " << fast.prim;
+                             fast.lane < group_triangle_count(&mesh.groups[fast.leaf]) &&
+                             group_lane_of(&mesh.groups[fast.leaf], fast.prim) == fast.lane;
+        EXPECT_TRUE(slot_ok) << describe(ray, t_min) << ": group " << fast.leaf << " lane " << fast.lane
+                             << " does not hold triangle " << fast.prim;
         if (!slot_ok) return false;
     }
     bool occluded_right = true;

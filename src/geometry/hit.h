@@ -20,6 +20,9 @@ struct Hit {
     /// which surface_at finds its corners next to those just tested (the mesh keeps no other
     /// copy of them). 0 for other shapes.
     uint32_t leaf = 0;
+    /// The triangle's place in that group (0 to 7): surface_at reads its corners there without
+    /// searching the group's ids for `prim`. 0 for other shapes.
+    uint32_t lane = 0;
 
     bool is_hit() const { return object != kNoObject; }
 };

@@ -163,9 +163,9 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
             const TriangleMesh& mesh = shape.mesh;
             RAYCAST_DCHECK(hit.leaf < shape.groups.size());
             const GroupBlock* group = &shape.groups[hit.leaf];
-            const uint32_t lane = group_lane_of(group, hit.prim);
-            RAYCAST_DCHECK(lane < group_triangle_count(group));
-            const GroupTriangle corners = group_triangle(group, lane);
+            RAYCAST_DCHECK(hit.lane < group_triangle_count(group));
+            const GroupTriangle corners = group_triangle(group, hit.lane);
+            RAYCAST_DCHECK(corners.id == hit.prim);
             normal = triangle_normal(corners.p0, corners.p1, corners.p2);
             surface.geometric_normal = normal;
             if (mesh.has_normals()) {

@@ -177,7 +177,8 @@ TEST(MeshKernel, EveryKernelFindsTheBruteForceHitAndItsAnyHitAgrees) {
                 ASSERT_EQ(bits_of(hit.u), bits_of(expected.u));
                 ASSERT_EQ(bits_of(hit.v), bits_of(expected.v));
                 ASSERT_EQ(hit.object, 3u);
-                ASSERT_LT(group_lane_of(&shape.groups[hit.leaf], hit.prim), group_triangle_count(&shape.groups[hit.leaf]));
+                ASSERT_EQ(hit.lane, group_lane_of(&shape.groups[hit.leaf], hit.prim));
+                ASSERT_LT(hit.lane, group_triangle_count(&shape.groups[hit.leaf]));
                 // Any hit: nothing strictly before the closest hit, something just past it.
                 ASSERT_FALSE(kernel.occluded(view, ray, t_min, expected.t)) << packet_isa_name(isa) << ", " << describe(ray, t_min);
                 ASSERT_TRUE(kernel.occluded(view, ray, t_min, std::nextafter(expected.t, INFINITY)))
@@ -335,6 +336,7 @@ TEST(PacketIntersect, RaysThatPointDifferentWaysGetTheirSingleRayHits) {
                 ASSERT_EQ(hits[k].object, expected.object);
                 ASSERT_EQ(hits[k].prim, expected.prim);
                 ASSERT_EQ(hits[k].leaf, expected.leaf);
+                ASSERT_EQ(hits[k].lane, expected.lane);
                 ASSERT_EQ(bits_of(hits[k].u), bits_of(expected.u));
                 ASSERT_EQ(bits_of(hits[k].v), bits_of(expected.v));
             }

@@ -335,7 +335,8 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
 
 // Offers each lane in `candidates` the hit (t, u, v) on (object, prim); keeps the closer, with
 // ties broken as is_closer() does.
-inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t object, uint32_t prim, uint32_t leaf) {
+inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t object, uint32_t prim, uint32_t leaf,
+                  uint32_t group_lane) {
     VM closer = candidates & (t < s.best_t);
     const VM ties = candidates & (t == s.best_t);
     if (any(ties)) {
@@ -362,6 +363,7 @@ inline void offer(PacketState& s, VM candidates, VF t, VF u, VF v, uint32_t obje
         hit.object = object;
         hit.prim = prim;
         hit.leaf = leaf;
+        hit.lane = group_lane;
     }
     s.best_t = select(closer, t, s.best_t);
 }
@@ -446,7 +448,8 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
                 for (uint32_t lane = 0; lane < group[0]; ++lane) {
                     const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, s.t_min_v);
                     // The triangle's id is read only for a hit: the last part of the group.
-                    if (any(h.hit)) offer(s, h.hit, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block);
+                    if (any(h.hit)) offer(s, h.hit, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block,
+                                          lane);
                 }
                 if (group[2] & kGroupEndsLeaf) return false;
                 block += group_blocks(group[0], group[1]);

@@ -288,6 +288,7 @@ inline void intersect_leaf(const GroupBlock* groups, uint32_t first_block, const
                 best.object = object;
                 best.prim = id;
                 best.leaf = block;
+                best.lane = lane;
                 winner = static_cast<int>(lane);
             }
             if (winner >= 0) {  // its barycentrics, as intersect_triangle divides them
