@@ -64,6 +64,9 @@ struct TraceContext {
     uint64_t nodes_visited = 0;       ///< BVH nodes the camera ray visited (cost mode)
     RayTree* tree = nullptr;          ///< set by `explain`: every ray is recorded; null when rendering
     const CameraShadows* camera_shadows = nullptr;  ///< for depth 0, when the render loop traced them
+    /// The render loop's packet tracer, for rays that leave one point together (ambient
+    /// occlusion); null: they are traced one by one. Either way the answers are the same.
+    const PacketTracer* tracer = nullptr;
     int record = -1;                  ///< this ray's record in `tree`
 };
 

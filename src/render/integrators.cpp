@@ -262,23 +262,42 @@ Vec3f ambient_occlusion_radiance(const Integrator& integrator, const Ray& ray, c
     const Vec3f normal = dot(surface.normal, ray.direction) > 0 ? -surface.normal : surface.normal;
     const float offset = ray_offset_distance(surface.position, ray_travel_scale(ray.origin, ray.direction, hit.t));
     const int samples = std::max(1, integrator.options.ao_samples);
+    // The rays leave one point, so they share the top of the BVH and most of the boxes near the
+    // point: with the render loop's tracer they go in packets, whose box tests serve them all.
+    const int lanes = context.tracer ? context.tracer->lanes() : 1;
     int open = 0;
-    for (int i = 0; i < samples; ++i) {
-        const Vec3f direction = sample_cosine_hemisphere(normal, context.sampler->next_2d());
-        if (!take_ray(context)) break;
-        ++context.counts->occlusion;
-        const Ray probe{offset_ray_origin_by(surface.position, surface.geometric_normal, direction, offset), direction};
-        const bool blocked = occluded(scene, probe, 0, integrator.ao_distance);
-        open += blocked ? 0 : 1;
-        if (context.tree) {
-            RayRecord record;
-            record.kind = RayKind::Occlusion;
-            record.parent = context.record;
-            record.origin = probe.origin;
-            record.direction = probe.direction;
-            record.t_max = integrator.ao_distance;
-            record.transmittance = record.color = blocked ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
-            context.tree->add(std::move(record));
+    bool budget_left = true;
+    for (int first = 0; first < samples && budget_left; first += lanes) {
+        Ray probes[kMaxPacketLanes];
+        float t_max[kMaxPacketLanes];
+        bool blocked[kMaxPacketLanes];
+        int count = 0;
+        for (; count < lanes && first + count < samples; ++count) {
+            const Vec3f direction = sample_cosine_hemisphere(normal, context.sampler->next_2d());
+            if (!take_ray(context)) {
+                budget_left = false;
+                break;
+            }
+            ++context.counts->occlusion;
+            probes[count] = {offset_ray_origin_by(surface.position, surface.geometric_normal, direction, offset), direction};
+            t_max[count] = integrator.ao_distance;
+        }
+        if (context.tracer)
+            context.tracer->occluded(probes, count, 0, t_max, blocked);
+        else if (count == 1)
+            blocked[0] = occluded(scene, probes[0], 0, integrator.ao_distance);
+        for (int k = 0; k < count; ++k) {
+            open += blocked[k] ? 0 : 1;
+            if (context.tree) {
+                RayRecord record;
+                record.kind = RayKind::Occlusion;
+                record.parent = context.record;
+                record.origin = probes[k].origin;
+                record.direction = probes[k].direction;
+                record.t_max = integrator.ao_distance;
+                record.transmittance = record.color = blocked[k] ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
+                context.tree->add(std::move(record));
+            }
         }
     }
     const float grey = static_cast<float>(open) / static_cast<float>(samples);

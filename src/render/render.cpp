@@ -40,7 +40,7 @@ Ray camera_sample_ray(const Camera& camera, int x, int y, int s, int spp) {
 // handed to the mode's radiance function. With `tree`, every ray is recorded in it.
 Vec3f shade_camera_sample(const Integrator& integrator, uint32_t index, int s, const Ray& ray, const Hit& hit,
                           uint64_t nodes_visited, RayCounts& counts, RayTree* tree,
-                          const CameraShadows* shadows = nullptr) {
+                          const CameraShadows* shadows = nullptr, const PacketTracer* tracer = nullptr) {
     Sampler sampler(index, s);
     uint32_t budget = kMaxRaysPerSample;
     TraceContext context;
@@ -50,6 +50,7 @@ Vec3f shade_camera_sample(const Integrator& integrator, uint32_t index, int s, c
     context.nodes_visited = nodes_visited;
     context.tree = tree;
     context.camera_shadows = shadows;
+    context.tracer = tracer;
     if (tree) {
         RayRecord record;
         record.origin = ray.origin;
@@ -249,7 +250,7 @@ private:
                         const uint32_t index = pixel_index(camera, camera_x[k], camera_y[k]);
                         const Vec3f color =
                             shade_camera_sample(integrator_, index, s, rays[k], hits[k], nodes[k], counts, nullptr,
-                                                camera_shadows_ ? &shadows[k] : nullptr);
+                                                camera_shadows_ ? &shadows[k] : nullptr, &tracer_);
                         colors[k] = s == 0 ? color : colors[k] + color;
                         if (targets_.normal_bytes) {
                             const Vec3f normal =

@@ -253,7 +253,8 @@ TEST(RenderTest, EveryPacketIsaGivesTheSameImageAsSingleRays) {
     for (int k = 0; k < 4; ++k)
     for (const int spp : {1, 4}) {
         const Scene& scene = scenes[k];
-        for (RenderMode mode : {RenderMode::Shaded, RenderMode::Normals, RenderMode::Depth, RenderMode::Material}) {
+        for (RenderMode mode : {RenderMode::Shaded, RenderMode::Normals, RenderMode::Depth, RenderMode::Material,
+                                RenderMode::AmbientOcclusion}) {
             RenderOptions single = options_with(PacketIsa::None);
             single.mode = mode;
             single.samples_per_pixel = spp;

@@ -312,6 +312,63 @@ TEST(PacketOcclusion, EveryIsaBlocksExactlyTheRaysOccludedBlocks) {
     EXPECT_LT(blocked_count, total * 4 / 5);
 }
 
+// Ambient-occlusion rays: every lane of a packet leaves one point of a bumpy mesh (inside a
+// triangle, on an edge, at a vertex; on the surface or just off it), in directions over the
+// hemisphere or the whole sphere, so a packet spans every octant and several watertight axis
+// permutations, and its rays part within a few nodes. Lengths run from nothing to past the mesh.
+TEST(PacketOcclusion, RaysFromOnePointInEveryDirectionAreBlockedExactlyAsOneByOne) {
+    std::mt19937 rng(91);
+    std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
+    const TriangleMesh grid = grid_mesh(rng, 24, 0.6f);
+    SceneDesc desc = scene_desc();
+    const int id = add_mesh(desc, grid);
+    desc.root->children.push_back(mesh_object(id));
+    // A second sheet standing across the first, so that rays leaving it have walls in every direction.
+    desc.root->children.push_back(
+        transform(Mat4::translate({12, 4, -12}) * Mat4::rotate({1, 0, 0}, 90), mesh_object(id)));
+    const Scene scene = build(std::move(desc));
+    const size_t triangles = grid.indices.size() / 3;
+    int blocked_count = 0, total = 0, mixed_packets = 0;
+    for (PacketIsa isa : packet_isas()) {
+        const PacketTracer tracer(scene, isa);
+        for (int packet = 0; packet < 400; ++packet) {
+            const size_t t = std::uniform_int_distribution<size_t>(0, triangles - 1)(rng);
+            const Vec3f a = corner(grid, t, 0), b = corner(grid, t, 1), c = corner(grid, t, 2);
+            float w1 = u01(rng), w2 = u01(rng) * (1 - w1);
+            if (packet % 7 == 1) w2 = 0;                       // on an edge
+            if (packet % 7 == 2) w1 = w2 = 0;                  // at a vertex
+            Vec3f point = a + (b - a) * w1 + (c - a) * w2;
+            const Vec3f normal = normalize(cross(b - a, c - a));
+            if (packet % 3 != 0) point = point + normal * 1e-4f;  // just off the surface
+            const int count = packet % 5 == 4 ? 1 + packet % tracer.lanes() : tracer.lanes();
+            Ray rays[kMaxPacketLanes];
+            float t_max[kMaxPacketLanes];
+            unsigned octants = 0;
+            for (int k = 0; k < count; ++k) {
+                Vec3f direction{u(rng), u(rng), u(rng)};
+                if (packet % 2 == 0 && dot(direction, normal) < 0) direction = direction - normal * (2 * dot(direction, normal));
+                rays[k] = {point, direction};
+                t_max[k] = k % 6 == 0 ? INFINITY : u01(rng) * 8;
+                octants |= 1u << ((direction.x < 0) + 2 * (direction.y < 0) + 4 * (direction.z < 0));
+            }
+            mixed_packets += (octants & (octants - 1)) != 0;
+            bool blocked[kMaxPacketLanes];
+            tracer.occluded(rays, count, 0, t_max, blocked);
+            for (int k = 0; k < count; ++k) {
+                const bool expected = occluded(scene, rays[k], 0, t_max[k]);
+                ASSERT_EQ(blocked[k], expected) << packet_isa_name(isa) << ", packet " << packet << ", lane " << k << ", "
+                                                << describe(rays[k], 0) << ", t_max " << t_max[k];
+                blocked_count += expected;
+                ++total;
+            }
+        }
+    }
+    EXPECT_GT(mixed_packets, 300);
+    EXPECT_GT(blocked_count, total / 10);
+    EXPECT_LT(blocked_count, total * 9 / 10);
+    std::printf("%d of %d rays blocked\n", blocked_count, total);
+}
+
 TEST(PacketIntersect, RaysThatPointDifferentWaysGetTheirSingleRayHits) {
     // Lanes whose dominant axes differ need different watertight permutations: the packet
     // kernels trace each set of lanes that share one.

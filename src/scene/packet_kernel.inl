@@ -259,8 +259,10 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
 // Walks a mesh's wide BVH with the packet: every child box of a node is tested in every lane,
 // the children some lane enters are visited nearest first (as the first lane that enters any of
 // them sees it), and the others wait on the stack as (node, slot), their box tested again when
-// popped. visit_leaf(payload) returns true to stop; t_cull() and r.live are re-read after it.
-template <bool kSameOctant, typename CullFn, typename LeafFn>
+// popped. visit_leaf(payload, reached) is called with the live lanes whose box tests led to the
+// leaf, and returns true to stop; t_cull() and r.live are re-read after it. Without kNearFirst,
+// children are visited in slot order (for an any-hit query, whose cull distance never changes).
+template <bool kSameOctant, bool kNearFirst, typename CullFn, typename LeafFn>
 inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, const SameOctant& octant,
                                  const VF& t_min, CullFn&& t_cull, LeafFn&& visit_leaf) {
     struct Pending {
@@ -269,6 +271,7 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
     Pending stack[kWideStackSize];
     int stack_size = 0;
     uint32_t ref = 0;  // the root node
+    VM reached = r.live;  // the lanes whose box tests led to ref
     for (;;) {
         if ((ref & kWideLeafFlag) == 0) {
             const WideBvhNode& node = nodes[ref];
@@ -281,6 +284,13 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
                 if (!any(entered[slot])) continue;
                 slots |= 1u << slot;
                 lanes |= bits(entered[slot]);
+            }
+            if (slots != 0 && !kNearFirst) {  // any order will do: the cull distance cannot change
+                const unsigned first = lowest_bit(slots);
+                for (unsigned b = slots & (slots - 1); b; b &= b - 1) stack[stack_size++] = {ref, lowest_bit(b)};
+                reached = entered[first];
+                ref = node.child[first];
+                continue;
             }
             if (slots != 0) {
                 // Farthest first as the first entering lane sees them (children it misses last).
@@ -302,10 +312,11 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
                 // At most kWideBvhWidth - 1 entries per level above the node (kWideStackSize).
                 RAYCAST_DCHECK(stack_size + count - 1 <= kWideStackSize);
                 for (int i = 0; i + 1 < count; ++i) stack[stack_size++] = {ref, order[i]};
+                reached = entered[order[count - 1]];
                 ref = node.child[order[count - 1]];
                 continue;
             }
-        } else if (visit_leaf(ref & kWidePayloadMask)) {
+        } else if (visit_leaf(ref & kWidePayloadMask, reached & r.live)) {
             return;
         }
         for (;;) {
@@ -313,7 +324,8 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
             const Pending next = stack[--stack_size];
             const WideBvhNode& parent = nodes[next.node];
             VF t_entry;
-            if (any(child_hits<kSameOctant>(parent, next.slot, r, octant, t_min, t_cull(), t_entry))) {
+            reached = child_hits<kSameOctant>(parent, next.slot, r, octant, t_min, t_cull(), t_entry);
+            if (any(reached)) {
                 ref = parent.child[next.slot];
                 break;
             }
@@ -328,9 +340,9 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
     SameOctant octant;
     const VF t_min_v = splat(t_min);
     if (t_min >= 0 && same_octant(r, octant))
-        traverse_packet_wide<true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<true, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
     else
-        traverse_packet_wide<false>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<false, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
 }
 
 // Offers each lane in `candidates` the hit (t, u, v) on (object, prim); keeps the closer, with
@@ -441,7 +453,7 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
     ShearedVertices sheared;
     traverse_packet_wide(
         mesh.nodes, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
-        [&](uint32_t first_block) {
+        [&](uint32_t first_block, VM) {
             for (uint32_t block = first_block;;) {
                 const unsigned char* group = mesh.groups[block].bytes;
                 shear_vertices(group, w, sheared);
@@ -465,7 +477,7 @@ inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const
     const VF t_min_v = splat(t_min);
     traverse_packet_wide(
         mesh.nodes, r, t_min, [&] { return t_cull; },
-        [&](uint32_t first_block) {
+        [&](uint32_t first_block, VM) {
             for (uint32_t block = first_block;;) {
                 const unsigned char* group = mesh.groups[block].bytes;
                 shear_vertices(group, w, sheared);
@@ -481,6 +493,50 @@ inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const
                 if (group[2] & kGroupEndsLeaf) return false;
                 block += group_blocks(group[0], group[1]);
             }
+        });
+}
+
+// Any hits nearer than t_max of rays that go different ways (ambient occlusion: rays from one
+// point spread over a hemisphere), each blocked ray marked and taken out of r.live. They walk the
+// BVH together with the general slab test, so a node's box tests serve every ray that goes near
+// it; at a leaf, the rays that reached it are tested against its triangles in sets that share a
+// watertight permutation (at most six; one or two at most leaves, whose rays arrive from nearby
+// directions), each set with the group's vertices sheared for it.
+inline void occluded_mesh_scattered(PacketRays& r, const MeshView& mesh, float t_min, VF t_max, VF t_cull,
+                                    bool* blocked) {
+    WatertightPacket sets[6];
+    int set_count = 0;
+    for (VM remaining = r.live; any(remaining); ++set_count) {
+        RAYCAST_DCHECK(set_count < 6);
+        sets[set_count] = make_watertight_packet(r, remaining);
+        remaining = andnot(remaining, sets[set_count].lanes);
+    }
+    ShearedVertices sheared;
+    const VF t_min_v = splat(t_min);
+    SameOctant unused;
+    traverse_packet_wide<false, false>(
+        mesh.nodes, r, unused, t_min_v, [&] { return t_cull; },
+        [&](uint32_t first_block, VM reached) {
+            for (int i = 0; i < set_count; ++i) {
+                VM lanes = reached & sets[i].lanes;
+                for (uint32_t block = first_block; any(lanes);) {
+                    const unsigned char* group = mesh.groups[block].bytes;
+                    shear_vertices(group, sets[i], sheared);
+                    for (uint32_t lane = 0; lane < group[0]; ++lane) {
+                        const TriangleLanes h = test_triangle_packet(group, lane, sheared, lanes, t_min_v);
+                        if (!any(h.hit)) continue;
+                        const VM now_blocked = h.hit & (h.t < t_max);
+                        if (!any(now_blocked)) continue;
+                        for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
+                        lanes = andnot(lanes, now_blocked);
+                        r.live = andnot(r.live, now_blocked);
+                        if (!any(lanes)) break;
+                    }
+                    if (group[2] & kGroupEndsLeaf) break;
+                    block += group_blocks(group[0], group[1]);
+                }
+            }
+            return !any(r.live);
         });
 }
 
@@ -500,9 +556,10 @@ inline PacketRays transform_packet(const PacketRays& r, const Mat4& m) {
 }
 
 // Whether a packet's live rays go the same way along every axis. Such rays (primary rays, shadow
-// rays towards one light) share most of their way through a BVH; rays that scatter (ambient
-// occlusion, rays from many surfaces) part at once, and each is faster alone, through the
-// single-ray kernel, than in a packet that tests every box for every lane.
+// rays towards one light) share most of their way through a BVH. For the closest hit, rays that
+// scatter (from many surfaces) part at once, and each is faster alone, through the single-ray
+// kernel, than in a packet that tests every box for every lane; for any hits, they stay in the
+// packet (occluded_mesh_scattered): the rays that ask (ambient occlusion) leave one point.
 inline bool coherent(const PacketRays& r) {
     SameOctant octant;
     return same_octant(r, octant);
@@ -598,7 +655,9 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
                                              ? r
                                              : transform_packet(r, view.object_from_world[instance.transform]);
                 if (!coherent(local)) {
-                    occluded_lanes(id);
+                    PacketRays traced = local;
+                    occluded_mesh_scattered(traced, mesh, t_min, t_max_v, t_cull, blocked);
+                    r.live = andnot(r.live, andnot(local.live, traced.live));  // those it blocked
                     if (!any(r.live)) return true;
                     continue;
                 }
