@@ -401,5 +401,76 @@ TEST(PacketIntersect, RaysThatPointDifferentWaysGetTheirSingleRayHits) {
     }
 }
 
+// Packets whose rays all go one way (every direction component keeps its sign) are walked as a
+// frustum where the kernel has one (AVX2, AVX-512): bounds on every ray's slab distances, never
+// tighter than one ray's own. Camera-like packets (one origin, directions a little apart) and
+// shadow-like ones (origins spread, one direction or one target), from barely apart to far
+// apart, at a bumpy sheet seen head-on and at a grazing angle: each lane gets exactly its
+// single-ray hit, and its single-ray any-hit answer.
+TEST(PacketIntersect, RaysThatGoOneWayGetTheirSingleRayHitsAndAnyHits) {
+    std::mt19937 rng(57);
+    std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
+    SceneDesc desc = scene_desc();
+    const int id = add_mesh(desc, grid_mesh(rng, 40, 0.7f));
+    desc.root->children.push_back(mesh_object(id));
+    desc.root->children.push_back(transform(Mat4::translate({0, 0, -3}) * Mat4::scale({0.5f, 0.5f, 1}), mesh_object(id)));
+    const Scene scene = build(std::move(desc));
+    int hit_count = 0, total = 0, blocked_count = 0;
+    for (PacketIsa isa : packet_isas()) {
+        const PacketTracer tracer(scene, isa);
+        for (int packet = 0; packet < 400; ++packet) {
+            const int count = packet % 3 == 0 ? 1 + packet % tracer.lanes() : tracer.lanes();
+            const float spread = std::pow(10.0f, -4 + 4 * u01(rng));  // 1e-4 to 1
+            const Vec3f target{20 + u(rng) * 22, 20 + u(rng) * 22, 0};
+            const bool grazing = packet % 4 == 1;
+            const Vec3f origin = grazing ? Vec3f{target.x - 30, target.y - 25 * u01(rng), 1.5f}
+                                         : Vec3f{20 + u(rng) * 10, 20 + u(rng) * 10, 12};
+            const Vec3f sun = normalize(target - origin);
+            Ray rays[kMaxPacketLanes];
+            float t_max[kMaxPacketLanes];
+            for (int k = 0; k < count; ++k) {
+                const Vec3f jitter = Vec3f{u(rng), u(rng), u(rng)} * spread;
+                switch (packet % 3) {
+                    case 0:  // one origin, directions a little apart: camera rays
+                        rays[k] = {origin, sun + jitter * 0.1f};
+                        break;
+                    case 1:  // origins apart, one direction: shadow rays towards the sun
+                        rays[k] = {origin + jitter * 5.0f, sun};
+                        break;
+                    default:  // origins apart, one target: shadow rays towards a point light
+                        rays[k] = {origin + jitter * 5.0f, target - (origin + jitter * 5.0f)};
+                }
+                t_max[k] = k % 3 == 0 ? INFINITY : u01(rng) * 40;
+            }
+            Hit hits[kMaxPacketLanes];
+            tracer.intersect(rays, count, 0, hits);
+            bool blocked[kMaxPacketLanes];
+            tracer.occluded(rays, count, 0, t_max, blocked);
+            for (int k = 0; k < count; ++k) {
+                Hit expected;
+                intersect(scene, rays[k], 0, expected);
+                ASSERT_EQ(hits[k].is_hit(), expected.is_hit()) << packet_isa_name(isa) << ", " << describe(rays[k], 0);
+                ASSERT_EQ(blocked[k], occluded(scene, rays[k], 0, t_max[k]))
+                    << packet_isa_name(isa) << ", " << describe(rays[k], 0) << ", t_max " << t_max[k];
+                ++total;
+                blocked_count += blocked[k];
+                if (!expected.is_hit()) continue;
+                ++hit_count;
+                ASSERT_EQ(bits_of(hits[k].t), bits_of(expected.t)) << packet_isa_name(isa) << ", " << describe(rays[k], 0);
+                ASSERT_EQ(hits[k].object, expected.object);
+                ASSERT_EQ(hits[k].prim, expected.prim);
+                ASSERT_EQ(hits[k].leaf, expected.leaf);
+                ASSERT_EQ(hits[k].lane, expected.lane);
+                ASSERT_EQ(bits_of(hits[k].u), bits_of(expected.u));
+                ASSERT_EQ(bits_of(hits[k].v), bits_of(expected.v));
+            }
+        }
+    }
+    EXPECT_GT(hit_count, total / 2);
+    EXPECT_LT(hit_count, total);
+    EXPECT_GT(blocked_count, total / 4);
+    EXPECT_LT(blocked_count, total);
+}
+
 }  // namespace
 }  // namespace raycast

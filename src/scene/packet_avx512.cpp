@@ -7,6 +7,11 @@ namespace raycast {
 namespace packet_avx512 {
 namespace {
 #include "scene/packet_simd_avx512.h"
+// Eight lanes for a node's eight children (the frustum test of packet_kernel.inl).
+namespace wide8 {
+#include "scene/packet_simd_avx2.h"
+}  // namespace wide8
+#define RAYCAST_PACKET_FRUSTUM 1
 #include "scene/packet_kernel.inl"
 }  // namespace
 

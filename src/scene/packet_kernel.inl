@@ -4,11 +4,13 @@
 //
 // A packet is kLanes rays, from neighbouring pixels or from a packet's hits towards one light. It
 // walks each BVH together: a node is entered when any ray's slab test passes, so one box test in
-// SIMD serves every ray. Meshes have wide BVHs and triangle groups (geometry/triangle_groups.h):
-// a group's vertices are moved into every ray's watertight space once, and each triangle is then
-// tested in every lane with exactly the floating-point operations of intersect_triangle
-// (geometry/triangle.h), in the same order, so each lane finds bit for bit the hit the single-ray
-// path finds (the results never depend on the path; tests check it).
+// SIMD serves every ray; where the rays all go one way and the kernel has 8-lane registers, one
+// frustum test serves all eight children of a node (PacketFrustum). Meshes have wide BVHs and
+// triangle groups (geometry/triangle_groups.h): a group's vertices are moved into every ray's
+// watertight space once, and each triangle is then tested in every lane with exactly the
+// floating-point operations of intersect_triangle (geometry/triangle.h), in the same order, so
+// each lane finds bit for bit the hit the single-ray path finds (the results never depend on the
+// path; tests check it).
 //
 // Only fields of the shared structs are read here, never their inline functions (see
 // packet_view.h for why).
@@ -256,6 +258,118 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
     }
 }
 
+#ifdef RAYCAST_PACKET_FRUSTUM
+// A packet whose live rays go the same way along every axis (with t_min >= 0), as one frustum:
+// each node's eight child boxes are tested at once, in one 8-lane register (wide8, the TU's
+// 8-lane wrapper), against bounds on what every ray's own slab test (child_hits<true>) computes.
+// Float subtraction and multiplication are monotonic, so (bound - o) * inverse over the lanes'
+// origins and inverses is least and greatest at a corner of those ranges, rounding included:
+// the frustum's entry is at most any ray's, its exit at least any ray's, and a box that any ray
+// enters passes (with a few that none enters; the triangles, tested in every lane, decide). For a
+// block of camera rays the ranges are narrow and a node costs one test instead of eight.
+struct PacketFrustum {
+    int near[3];                     // which bound is near, per axis (SameOctant)
+    float o_lo[3], o_hi[3];          // the origin components' range over the live lanes
+    float near_lo[3], near_hi[3];    // the near bounds' inverses (near_ix and so on)
+    float far_lo[3], far_hi[3];      // the far bounds'
+};
+
+// The greatest of the live lanes of v, and the least.
+inline float max_of_lanes(VF v, VM live) { return hmax(select(live, v, splat(-__builtin_inff()))); }
+inline float min_of_lanes(VF v, VM live) { return hmin(select(live, v, splat(__builtin_inff()))); }
+
+inline PacketFrustum make_frustum(const PacketRays& r, const SameOctant& octant) {
+    const VM live = r.live;
+    PacketFrustum f;
+    const VF* origin[3] = {&r.ox, &r.oy, &r.oz};
+    const VF* near_inverse[3] = {&r.near_ix, &r.near_iy, &r.near_iz};
+    const VF* far_inverse[3] = {&r.far_ix, &r.far_iy, &r.far_iz};
+    for (int axis = 0; axis < 3; ++axis) {
+        f.near[axis] = octant.near[axis];
+        f.o_lo[axis] = min_of_lanes(*origin[axis], live);
+        f.o_hi[axis] = max_of_lanes(*origin[axis], live);
+        f.near_lo[axis] = min_of_lanes(*near_inverse[axis], live);
+        f.near_hi[axis] = max_of_lanes(*near_inverse[axis], live);
+        f.far_lo[axis] = min_of_lanes(*far_inverse[axis], live);
+        f.far_hi[axis] = max_of_lanes(*far_inverse[axis], live);
+    }
+    return f;
+}
+
+// The children some ray may enter before `cull` (bit per slot), and the frustum's entry to each.
+inline unsigned frustum_children(const WideBvhNode& node, const PacketFrustum& f, float t_min, float cull,
+                                 wide8::VF& t_entry) {
+    using wide8::splat;
+    using wide8::vmax;
+    using wide8::vmin;
+    wide8::VF entry = splat(t_min), exit = splat(cull);
+    for (int axis = 0; axis < 3; ++axis) {
+        const wide8::VF near_bound = wide8::load(node.bounds[axis][f.near[axis]]);
+        const wide8::VF far_bound = wide8::load(node.bounds[axis][1 - f.near[axis]]);
+        const wide8::VF near_lo = near_bound - splat(f.o_hi[axis]), near_hi = near_bound - splat(f.o_lo[axis]);
+        const wide8::VF i_lo = splat(f.near_lo[axis]), i_hi = splat(f.near_hi[axis]);
+        entry = vmax(entry, vmin(vmin(near_lo * i_lo, near_lo * i_hi), vmin(near_hi * i_lo, near_hi * i_hi)));
+        const wide8::VF far_lo = far_bound - splat(f.o_hi[axis]), far_hi = far_bound - splat(f.o_lo[axis]);
+        const wide8::VF j_lo = splat(f.far_lo[axis]), j_hi = splat(f.far_hi[axis]);
+        exit = vmin(exit, vmax(vmax(far_lo * j_lo, far_lo * j_hi), vmax(far_hi * j_lo, far_hi * j_hi)));
+    }
+    t_entry = entry;
+    return wide8::bits(entry <= exit);
+}
+
+// Walks a mesh's wide BVH with the packet as a frustum: the children it enters are visited
+// nearest first by its entry, the others wait on the stack with their entry and are dropped
+// when popped if they begin beyond max_cull() (the farthest of the live lanes' cull distances,
+// read again after every leaf). visit_leaf(payload) returns true to stop.
+template <typename CullFn, typename LeafFn>
+inline void traverse_frustum(const WideBvhNode* nodes, const PacketFrustum& f, float t_min, CullFn&& max_cull,
+                             LeafFn&& visit_leaf) {
+    struct Pending {
+        uint32_t ref;
+        float t_entry;
+    };
+    Pending stack[kWideStackSize];
+    int stack_size = 0;
+    uint32_t ref = 0;  // the root node
+    float cull = max_cull();
+    for (;;) {
+        if ((ref & kWideLeafFlag) == 0) {
+            const WideBvhNode& node = nodes[ref];
+            wide8::VF t_entry;
+            unsigned hits = frustum_children(node, f, t_min, cull, t_entry);
+            if (hits != 0) {
+                float t[kWideBvhWidth];
+                wide8::store(t, t_entry);
+                Pending entered[kWideBvhWidth];
+                int count = 0;
+                for (; hits; hits &= hits - 1) {
+                    const unsigned slot = lowest_bit(hits);
+                    const Pending child{node.child[slot], t[slot]};
+                    int i = count++;
+                    for (; i > 0 && entered[i - 1].t_entry < child.t_entry; --i) entered[i] = entered[i - 1];
+                    entered[i] = child;
+                }
+                RAYCAST_DCHECK(stack_size + count - 1 <= kWideStackSize);
+                for (int i = 0; i + 1 < count; ++i) stack[stack_size++] = entered[i];
+                ref = entered[count - 1].ref;
+                continue;
+            }
+        } else {
+            if (visit_leaf(ref & kWidePayloadMask)) return;
+            cull = max_cull();
+        }
+        for (;;) {
+            if (stack_size == 0) return;
+            const Pending next = stack[--stack_size];
+            if (next.t_entry <= cull) {
+                ref = next.ref;
+                break;
+            }
+        }
+    }
+}
+#endif
+
 // Walks a mesh's wide BVH with the packet: every child box of a node is tested in every lane,
 // the children some lane enters are visited nearest first (as the first lane that enters any of
 // them sees it), and the others wait on the stack as (node, slot), their box tested again when
@@ -451,22 +565,30 @@ inline void intersect_instance_lanes(PacketState& s, uint32_t id, VM lanes) {
 inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w, const MeshView& mesh,
                                   uint32_t object) {
     ShearedVertices sheared;
-    traverse_packet_wide(
-        mesh.nodes, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
-        [&](uint32_t first_block, VM) {
-            for (uint32_t block = first_block;;) {
-                const unsigned char* group = mesh.groups[block].bytes;
-                shear_vertices(group, w, sheared);
-                for (uint32_t lane = 0; lane < group[0]; ++lane) {
-                    const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, s.t_min_v);
-                    // The triangle's id is read only for a hit: the last part of the group.
-                    if (any(h.hit)) offer(s, h.hit, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block,
-                                          lane);
-                }
-                if (group[2] & kGroupEndsLeaf) return false;
-                block += group_blocks(group[0], group[1]);
+    auto visit_leaf = [&](uint32_t first_block) {
+        for (uint32_t block = first_block;;) {
+            const unsigned char* group = mesh.groups[block].bytes;
+            shear_vertices(group, w, sheared);
+            for (uint32_t lane = 0; lane < group[0]; ++lane) {
+                const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, s.t_min_v);
+                // The triangle's id is read only for a hit: the last part of the group.
+                if (any(h.hit)) offer(s, h.hit, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block,
+                                      lane);
             }
-        });
+            if (group[2] & kGroupEndsLeaf) return false;
+            block += group_blocks(group[0], group[1]);
+        }
+    };
+#ifdef RAYCAST_PACKET_FRUSTUM
+    SameOctant octant;
+    if (s.t_min >= 0 && same_octant(r, octant)) {
+        traverse_frustum(mesh.nodes, make_frustum(r, octant), s.t_min,
+                         [&] { return max_of_lanes(cull_distance_v(s.best_t), r.live); }, visit_leaf);
+        return;
+    }
+#endif
+    traverse_packet_wide(mesh.nodes, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
+                         [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
 }
 
 // Any hits nearer than t_max of the rays of r.live, which share w's permutation, with one mesh:
@@ -475,25 +597,33 @@ inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const
                                  VF t_cull, bool* blocked) {
     ShearedVertices sheared;
     const VF t_min_v = splat(t_min);
-    traverse_packet_wide(
-        mesh.nodes, r, t_min, [&] { return t_cull; },
-        [&](uint32_t first_block, VM) {
-            for (uint32_t block = first_block;;) {
-                const unsigned char* group = mesh.groups[block].bytes;
-                shear_vertices(group, w, sheared);
-                for (uint32_t lane = 0; lane < group[0]; ++lane) {
-                    const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, t_min_v);
-                    if (!any(h.hit)) continue;
-                    const VM now_blocked = h.hit & (h.t < t_max);
-                    if (!any(now_blocked)) continue;
-                    for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
-                    r.live = andnot(r.live, now_blocked);
-                    if (!any(r.live)) return true;
-                }
-                if (group[2] & kGroupEndsLeaf) return false;
-                block += group_blocks(group[0], group[1]);
+    auto visit_leaf = [&](uint32_t first_block) {
+        for (uint32_t block = first_block;;) {
+            const unsigned char* group = mesh.groups[block].bytes;
+            shear_vertices(group, w, sheared);
+            for (uint32_t lane = 0; lane < group[0]; ++lane) {
+                const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, t_min_v);
+                if (!any(h.hit)) continue;
+                const VM now_blocked = h.hit & (h.t < t_max);
+                if (!any(now_blocked)) continue;
+                for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
+                r.live = andnot(r.live, now_blocked);
+                if (!any(r.live)) return true;
             }
-        });
+            if (group[2] & kGroupEndsLeaf) return false;
+            block += group_blocks(group[0], group[1]);
+        }
+    };
+#ifdef RAYCAST_PACKET_FRUSTUM
+    SameOctant octant;
+    if (t_min >= 0 && same_octant(r, octant)) {
+        const float cull = max_of_lanes(t_cull, r.live);  // fixed: any-hit queries do not shorten
+        traverse_frustum(mesh.nodes, make_frustum(r, octant), t_min, [cull] { return cull; }, visit_leaf);
+        return;
+    }
+#endif
+    traverse_packet_wide(mesh.nodes, r, t_min, [&] { return t_cull; },
+                         [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
 }
 
 // Any hits nearer than t_max of rays that go different ways (ambient occlusion: rays from one

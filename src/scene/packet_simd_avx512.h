@@ -32,3 +32,5 @@ inline unsigned sign_bits(VF a) {
 }
 inline VM mask_from_bits(unsigned b) { return {static_cast<__mmask16>(b)}; }
 inline VF select(VM m, VF a, VF b) { return {_mm512_mask_blend_ps(m.m, b.v, a.v)}; }
+inline float hmin(VF a) { return _mm512_reduce_min_ps(a.v); }
+inline float hmax(VF a) { return _mm512_reduce_max_ps(a.v); }
