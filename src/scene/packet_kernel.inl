@@ -29,6 +29,9 @@ struct PacketRays {
     // whose inverse is negative, per axis.
     VF near_ix, near_iy, near_iz, far_ix, far_iy, far_iz;
     unsigned negative[3];
+    // The same inverses by bound, lane by lane: for the lower bound, near_ix where the ray goes
+    // up the axis and far_ix where it goes down; for the upper, the other (SlabTest::AnyOctant).
+    VF lower_ix, lower_iy, lower_iz, upper_ix, upper_iy, upper_iz;
 };
 
 // The watertight test's per-ray constants (see make_watertight_ray) for the lanes `lanes`, which
@@ -80,6 +83,13 @@ inline void prepare_inverses(PacketRays& r) {
     r.far_ix = r.ix * grow;
     r.far_iy = r.iy * grow;
     r.far_iz = r.iz * grow;
+    const VM down_x = r.ix < zero, down_y = r.iy < zero, down_z = r.iz < zero;
+    r.lower_ix = select(down_x, r.far_ix, r.near_ix);
+    r.lower_iy = select(down_y, r.far_iy, r.near_iy);
+    r.lower_iz = select(down_z, r.far_iz, r.near_iz);
+    r.upper_ix = select(down_x, r.near_ix, r.far_ix);
+    r.upper_iy = select(down_y, r.near_iy, r.far_iy);
+    r.upper_iz = select(down_z, r.near_iz, r.far_iz);
 }
 
 // Rays [0, count) as a packet (structure of arrays); dead lanes repeat lane 0 so that they hold no
@@ -178,14 +188,40 @@ inline bool same_octant(const PacketRays& r, SameOctant& octant) {
     return true;
 }
 
-// The slab test of a child; with kSameOctant (t_min >= 0 and one octant: see PacketRays), the
-// single-ray kernel's: near and far bounds picked once, no widening left to do.
-template <bool kSameOctant>
+// How a child's box is slab-tested: box_hits (widened, any t_min), or with t_min >= 0 the single-
+// ray kernel's test, whose near and far bounds have their own inverses (kInverseShrink), with
+// the near bound of each axis picked once for every lane (SameOctant) or found lane by lane
+// (AnyOctant).
+enum class SlabTest { Widened, SameOctant, AnyOctant };
+
+// The AnyOctant test: each bound's distance with the inverse its role needs in that lane (the
+// lower bound is near where the ray goes up the axis), so that the near one is what the
+// single-ray kernel computes, and so is the far one; the nearer of the two is taken as the entry
+// and the farther as the exit, which is that test's slab or a wider one, and needs no choosing
+// of bounds per lane. Only for a node's real children (slot < child_count): an empty slot's
+// inverted bounds would pass.
+inline VM child_hits_any_octant(const WideBvhNode& node, uint32_t slot, const PacketRays& r, VF t_min, VF t_cull,
+                                VF& t_entry) {
+    const VF ax = (splat(node.bounds[0][0][slot]) - r.ox) * r.lower_ix;
+    const VF bx = (splat(node.bounds[0][1][slot]) - r.ox) * r.upper_ix;
+    const VF ay = (splat(node.bounds[1][0][slot]) - r.oy) * r.lower_iy;
+    const VF by = (splat(node.bounds[1][1][slot]) - r.oy) * r.upper_iy;
+    const VF az = (splat(node.bounds[2][0][slot]) - r.oz) * r.lower_iz;
+    const VF bz = (splat(node.bounds[2][1][slot]) - r.oz) * r.upper_iz;
+    const VF t0 = vmax(t_min, vmax(vmax(vmin(ax, bx), vmin(ay, by)), vmin(az, bz)));
+    const VF t1 = vmin(t_cull, vmin(vmin(vmax(ax, bx), vmax(ay, by)), vmax(az, bz)));
+    t_entry = t0;
+    return (t0 <= t1) & r.live;
+}
+
+// The slab test of a child, as `kTest` says.
+template <SlabTest kTest>
 inline VM child_hits(const WideBvhNode& node, uint32_t slot, const PacketRays& r, const SameOctant& octant, VF t_min,
                      VF t_cull, VF& t_entry) {
-    if (!kSameOctant)
+    if (kTest == SlabTest::Widened)
         return box_hits(node.bounds[0][0][slot], node.bounds[1][0][slot], node.bounds[2][0][slot], node.bounds[0][1][slot],
                         node.bounds[1][1][slot], node.bounds[2][1][slot], r, t_min, t_cull, t_entry);
+    if (kTest == SlabTest::AnyOctant) return child_hits_any_octant(node, slot, r, t_min, t_cull, t_entry);
     const int nx = octant.near[0], ny = octant.near[1], nz = octant.near[2];
     const VF near_x = (splat(node.bounds[0][nx][slot]) - r.ox) * r.near_ix;
     const VF near_y = (splat(node.bounds[1][ny][slot]) - r.oy) * r.near_iy;
@@ -376,7 +412,7 @@ inline void traverse_frustum(const WideBvhNode* nodes, const PacketFrustum& f, f
 // popped. visit_leaf(payload, reached) is called with the live lanes whose box tests led to the
 // leaf, and returns true to stop; t_cull() and r.live are re-read after it. Without kNearFirst,
 // children are visited in slot order (for an any-hit query, whose cull distance never changes).
-template <bool kSameOctant, bool kNearFirst, typename CullFn, typename LeafFn>
+template <SlabTest kTest, bool kNearFirst, typename CullFn, typename LeafFn>
 inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, const SameOctant& octant,
                                  const VF& t_min, CullFn&& t_cull, LeafFn&& visit_leaf) {
     struct Pending {
@@ -394,7 +430,7 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
             VF t_entry[kWideBvhWidth];
             unsigned slots = 0, lanes = 0;
             for (uint32_t slot = 0; slot < node.child_count; ++slot) {
-                entered[slot] = child_hits<kSameOctant>(node, slot, r, octant, t_min, cull, t_entry[slot]);
+                entered[slot] = child_hits<kTest>(node, slot, r, octant, t_min, cull, t_entry[slot]);
                 if (!any(entered[slot])) continue;
                 slots |= 1u << slot;
                 lanes |= bits(entered[slot]);
@@ -438,7 +474,7 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
             const Pending next = stack[--stack_size];
             const WideBvhNode& parent = nodes[next.node];
             VF t_entry;
-            reached = child_hits<kSameOctant>(parent, next.slot, r, octant, t_min, t_cull(), t_entry);
+            reached = child_hits<kTest>(parent, next.slot, r, octant, t_min, t_cull(), t_entry);
             if (any(reached)) {
                 ref = parent.child[next.slot];
                 break;
@@ -453,10 +489,12 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
                                  LeafFn&& visit_leaf) {
     SameOctant octant;
     const VF t_min_v = splat(t_min);
-    if (t_min >= 0 && same_octant(r, octant))
-        traverse_packet_wide<true, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+    if (t_min < 0)
+        traverse_packet_wide<SlabTest::Widened, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+    else if (same_octant(r, octant))
+        traverse_packet_wide<SlabTest::SameOctant, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
     else
-        traverse_packet_wide<false, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::AnyOctant, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
 }
 
 // Offers each lane in `candidates` the hit (t, u, v) on (object, prim); keeps the closer, with
@@ -643,31 +681,34 @@ inline void occluded_mesh_scattered(PacketRays& r, const MeshView& mesh, float t
     }
     ShearedVertices sheared;
     const VF t_min_v = splat(t_min);
-    SameOctant unused;
-    traverse_packet_wide<false, false>(
-        mesh.nodes, r, unused, t_min_v, [&] { return t_cull; },
-        [&](uint32_t first_block, VM reached) {
-            for (int i = 0; i < set_count; ++i) {
-                VM lanes = reached & sets[i].lanes;
-                for (uint32_t block = first_block; any(lanes);) {
-                    const unsigned char* group = mesh.groups[block].bytes;
-                    shear_vertices(group, sets[i], sheared);
-                    for (uint32_t lane = 0; lane < group[0]; ++lane) {
-                        const TriangleLanes h = test_triangle_packet(group, lane, sheared, lanes, t_min_v);
-                        if (!any(h.hit)) continue;
-                        const VM now_blocked = h.hit & (h.t < t_max);
-                        if (!any(now_blocked)) continue;
-                        for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
-                        lanes = andnot(lanes, now_blocked);
-                        r.live = andnot(r.live, now_blocked);
-                        if (!any(lanes)) break;
-                    }
-                    if (group[2] & kGroupEndsLeaf) break;
-                    block += group_blocks(group[0], group[1]);
+    auto visit_leaf = [&](uint32_t first_block, VM reached) {
+        for (int i = 0; i < set_count; ++i) {
+            VM lanes = reached & sets[i].lanes;
+            for (uint32_t block = first_block; any(lanes);) {
+                const unsigned char* group = mesh.groups[block].bytes;
+                shear_vertices(group, sets[i], sheared);
+                for (uint32_t lane = 0; lane < group[0]; ++lane) {
+                    const TriangleLanes h = test_triangle_packet(group, lane, sheared, lanes, t_min_v);
+                    if (!any(h.hit)) continue;
+                    const VM now_blocked = h.hit & (h.t < t_max);
+                    if (!any(now_blocked)) continue;
+                    for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
+                    lanes = andnot(lanes, now_blocked);
+                    r.live = andnot(r.live, now_blocked);
+                    if (!any(lanes)) break;
                 }
+                if (group[2] & kGroupEndsLeaf) break;
+                block += group_blocks(group[0], group[1]);
             }
-            return !any(r.live);
-        });
+        }
+        return !any(r.live);
+    };
+    const SameOctant unused{};
+    auto cull = [&] { return t_cull; };
+    if (t_min >= 0)
+        traverse_packet_wide<SlabTest::AnyOctant, false>(mesh.nodes, r, unused, t_min_v, cull, visit_leaf);
+    else
+        traverse_packet_wide<SlabTest::Widened, false>(mesh.nodes, r, unused, t_min_v, cull, visit_leaf);
 }
 
 // Moves the packet into an instance's object space as to_object_space does, operation for
