@@ -440,6 +440,10 @@ TEST(PacketIntersect, RaysThatGoOneWayGetTheirSingleRayHitsAndAnyHits) {
                     default:  // origins apart, one target: shadow rays towards a point light
                         rays[k] = {origin + jitter * 5.0f, target - (origin + jitter * 5.0f)};
                 }
+                if (packet % 5 == 4) {  // |x| = |z| in every lane: watertight_axes's tie
+                    const float m = 0.5f + 0.5f * u01(rng);
+                    rays[k].direction = {m, (0.2f + 0.7f * u01(rng)) * m, -m};
+                }
                 t_max[k] = k % 3 == 0 ? INFINITY : u01(rng) * 40;
             }
             Hit hits[kMaxPacketLanes];

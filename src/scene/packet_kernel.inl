@@ -117,29 +117,41 @@ inline PacketRays load_packet(const Ray* rays, int count) {
     return r;
 }
 
-// make_watertight_ray's choice of axes, lane by lane, for the lowest of `lanes`; the result
-// covers every lane of `lanes` that makes the same choice, and its shear constants are computed
-// (in SIMD, as make_watertight_ray computes them) in every lane.
-inline WatertightPacket make_watertight_packet(const PacketRays& r, VM lanes) {
-    float d[3][kLanes];
-    store(d[0], r.dx);
-    store(d[1], r.dy);
-    store(d[2], r.dz);
-    WatertightPacket w;
-    unsigned same = 0;
-    bool first = true;
-    for (unsigned b = bits(lanes); b; b &= b - 1) {
-        const unsigned lane = lowest_bit(b);
-        const WatertightAxes axes = watertight_axes(d[0][lane], d[1][lane], d[2][lane]);
-        if (first) {
-            w.kx = axes.kx;
-            w.ky = axes.ky;
-            w.kz = axes.kz;
-            first = false;
-        }
-        if (axes.kx == w.kx && axes.ky == w.ky && axes.kz == w.kz) same |= 1u << lane;
+// watertight_axes's choice for every lane at once, as masks: the live lanes fall into at most
+// six sets (the dominant axis kz, and whether the ray goes down it), each with its kx, ky, kz.
+// The same comparisons as watertight_axes, so each lane lands where that function puts it.
+struct AxisSet {
+    VM lanes;
+    int kx, ky, kz;
+};
+
+inline int axis_sets(const PacketRays& r, AxisSet* sets) {
+    const VF ax = vabs(r.dx), ay = vabs(r.dy), az = vabs(r.dz), zero = splat(0.0f);
+    const VM x_ge_y = ay <= ax;
+    const VM kz_x = x_ge_y & (az <= ax), kz_y = andnot(az <= ay, x_ge_y);
+    const VM dominant[3] = {kz_x, kz_y, andnot(andnot(r.live, kz_x), kz_y)};
+    const VM down[3] = {r.dx < zero, r.dy < zero, r.dz < zero};
+    int count = 0;
+    for (int kz = 0; kz < 3; ++kz) {
+        const VM lanes = dominant[kz] & r.live;
+        if (!any(lanes)) continue;
+        const int kx = kz == 2 ? 0 : kz + 1;
+        const int ky = kx == 2 ? 0 : kx + 1;
+        const VM up_lanes = andnot(lanes, down[kz]), down_lanes = lanes & down[kz];
+        if (any(up_lanes)) sets[count++] = {up_lanes, kx, ky, kz};
+        if (any(down_lanes)) sets[count++] = {down_lanes, ky, kx, kz};  // swapped: keeps the winding
     }
-    w.lanes = mask_from_bits(same);
+    return count;
+}
+
+// The watertight test's constants for the lanes of one axis set, computed (in SIMD, as
+// make_watertight_ray computes them) in every lane.
+inline WatertightPacket make_watertight_packet(const PacketRays& r, const AxisSet& set) {
+    WatertightPacket w;
+    w.kx = set.kx;
+    w.ky = set.ky;
+    w.kz = set.kz;
+    w.lanes = set.lanes;
     const VF dkz = pick(r.dx, r.dy, r.dz, w.kz);
     w.sx = pick(r.dx, r.dy, r.dz, w.kx) / dkz;
     w.sy = pick(r.dx, r.dy, r.dz, w.ky) / dkz;
@@ -672,13 +684,10 @@ inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const
 // directions), each set with the group's vertices sheared for it.
 inline void occluded_mesh_scattered(PacketRays& r, const MeshView& mesh, float t_min, VF t_max, VF t_cull,
                                     bool* blocked) {
+    AxisSet axes[6];
+    const int set_count = axis_sets(r, axes);
     WatertightPacket sets[6];
-    int set_count = 0;
-    for (VM remaining = r.live; any(remaining); ++set_count) {
-        RAYCAST_DCHECK(set_count < 6);
-        sets[set_count] = make_watertight_packet(r, remaining);
-        remaining = andnot(remaining, sets[set_count].lanes);
-    }
+    for (int i = 0; i < set_count; ++i) sets[i] = make_watertight_packet(r, axes[i]);
     ShearedVertices sheared;
     const VF t_min_v = splat(t_min);
     auto visit_leaf = [&](uint32_t first_block, VM reached) {
@@ -740,13 +749,12 @@ inline bool coherent(const PacketRays& r) {
 // (usually one set: the rays of a packet point the same way), with rays.live narrowed to it.
 template <typename TraceFn>
 inline void for_each_permutation(const PacketRays& r, TraceFn&& trace) {
-    VM remaining = r.live;
-    while (any(remaining)) {
-        const WatertightPacket w = make_watertight_packet(r, remaining);
+    AxisSet sets[6];
+    const int count = axis_sets(r, sets);
+    for (int i = 0; i < count; ++i) {
         PacketRays subset = r;
-        subset.live = w.lanes;
-        trace(subset, w);
-        remaining = andnot(remaining, w.lanes);
+        subset.live = sets[i].lanes;
+        trace(subset, make_watertight_packet(r, sets[i]));
     }
 }
 
