@@ -22,17 +22,22 @@ uint32_t pixel_index(const Camera& camera, int x, int y) {
     return static_cast<uint32_t>(y) * static_cast<uint32_t>(camera.width) + static_cast<uint32_t>(x);
 }
 
+// The point of the image plane, in pixel units, that sample `s` of pixel (x, y) of the full frame
+// goes through: the pixel's own point is (x + pixel_offset, y + pixel_offset), and samples spread
+// ±½ around it.
+Vec2f camera_sample_point(const Camera& camera, const SampleGrid& grid, int x, int y, int s) {
+    const Vec2f offset = pixel_sample_offset(grid, pixel_index(camera, x, y), s);
+    return {static_cast<float>(x) + camera.pixel_offset + (offset.x - 0.5f),
+            static_cast<float>(y) + camera.pixel_offset + (offset.y - 0.5f)};
+}
+
 // The camera ray of sample `s` of pixel (x, y) of the full frame.
-Ray camera_sample_ray(const Camera& camera, int x, int y, int s, int spp) {
-    if (spp == 1 && camera.lens_radius <= 0)
+Ray camera_sample_ray(const Camera& camera, const SampleGrid& grid, int x, int y, int s) {
+    if (grid.columns * grid.rows == 1 && camera.lens_radius <= 0)
         return camera_ray(camera, static_cast<float>(x) + camera.pixel_offset, static_cast<float>(y) + camera.pixel_offset);
-    const uint32_t index = pixel_index(camera, x, y);
-    const Vec2f offset = pixel_sample_offset(index, s, spp);
-    // The pixel's own point is (x + pixel_offset, y + pixel_offset); samples spread ±½ around it.
-    const float px = static_cast<float>(x) + camera.pixel_offset + (offset.x - 0.5f);
-    const float py = static_cast<float>(y) + camera.pixel_offset + (offset.y - 0.5f);
-    const Vec2f lens = lens_sample(index, s);
-    return camera_ray(camera, px, py, lens.x, lens.y);
+    const Vec2f point = camera_sample_point(camera, grid, x, y, s);
+    const Vec2f lens = lens_sample(pixel_index(camera, x, y), s);
+    return camera_ray(camera, point.x, point.y, lens.x, lens.y);
 }
 
 // The colour that camera sample `s` of a pixel brings back, given its ray and closest hit: a
@@ -117,6 +122,7 @@ public:
           camera_(render_camera(scene, options)),
           frame_(frame_of(camera_, options)),
           spp_(std::max(1, options.samples_per_pixel)),
+          grid_(spp_),
           packet_width_(tracer_.lanes()),
           // Shadow rays from a packet's hits are as coherent as the packet: traced together too.
           camera_shadows_(packet_width_ > 1 && traces_camera_shadows(integrator_)) {}
@@ -233,8 +239,16 @@ private:
                             b[k] = worker.plane_y[static_cast<size_t>(camera_y[k] - frame_.y_offset - y_begin)];
                         }
                         camera_rays_at(camera, a, b, count, rays);
+                    } else if (camera.lens_radius <= 0) {  // a pinhole: camera_ray's rays, made together
+                        float a[kMaxPacketLanes], b[kMaxPacketLanes];
+                        for (int k = 0; k < count; ++k) {
+                            const Vec2f point = camera_sample_point(camera, grid_, camera_x[k], camera_y[k], s);
+                            a[k] = camera_plane_x(camera, point.x);
+                            b[k] = camera_plane_y(camera, point.y);
+                        }
+                        camera_rays_at(camera, a, b, count, rays);
                     } else {
-                        for (int k = 0; k < count; ++k) rays[k] = camera_sample_ray(camera, camera_x[k], camera_y[k], s, spp_);
+                        for (int k = 0; k < count; ++k) rays[k] = camera_sample_ray(camera, grid_, camera_x[k], camera_y[k], s);
                     }
                     for (int k = 0; k < count; ++k) {
                         hits[k] = Hit{};
@@ -313,6 +327,7 @@ private:
     const Camera& camera_;
     Frame frame_;
     int spp_ = 1;
+    SampleGrid grid_;  // how the samples share a pixel
     int packet_width_ = 1;
     bool camera_shadows_ = false;
     Targets targets_;
@@ -394,9 +409,10 @@ PixelExplanation explain_pixel(const Scene& scene, const RenderOptions& options,
     const uint32_t index = pixel_index(camera, x, camera_y);
     const Integrator integrator = make_integrator(scene, options);
     const int spp = explanation.samples_per_pixel;
+    const SampleGrid grid(spp);
     Vec3f sum;
     for (int s = 0; s < spp; ++s) {
-        const Ray ray = camera_sample_ray(camera, x, camera_y, s, spp);
+        const Ray ray = camera_sample_ray(camera, grid, x, camera_y, s);
         Hit hit;
         TraceCounters counters;
         intersect(scene, ray, camera.t_min, hit, options.mode == RenderMode::Cost ? &counters : nullptr);
@@ -405,7 +421,7 @@ PixelExplanation explain_pixel(const Scene& scene, const RenderOptions& options,
         const Vec3f color = shade_camera_sample(integrator, index, s, ray, hit, counters.nodes_visited, counts, &tree);
         sum = s == 0 ? color : sum + color;
         explanation.sample_offsets.push_back(spp == 1 && camera.lens_radius <= 0 ? Vec2f{0.5f, 0.5f}
-                                                                                  : pixel_sample_offset(index, s, spp));
+                                                                                  : pixel_sample_offset(grid, index, s));
         explanation.samples.push_back(std::move(tree));
     }
     explanation.color = spp > 1 ? sum / static_cast<float>(spp) : sum;

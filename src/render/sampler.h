@@ -24,18 +24,30 @@ inline uint32_t hash32(uint32_t x) {
 /// The top 24 bits of `bits` as a float in [0, 1): every value exactly representable.
 inline float unit_float(uint32_t bits) { return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f); }
 
-/// Where sample `s` of `spp` falls inside its pixel, in [0, 1)²: one jittered point per cell of an
-/// n×n grid when spp = n², else per cell of a 1×spp row. spp = 1 is the pixel's own point (½, ½).
-inline Vec2f pixel_sample_offset(uint32_t pixel_index, int s, int spp) {
-    if (spp == 1) return {0.5f, 0.5f};
-    int columns = static_cast<int>(std::lround(std::sqrt(static_cast<double>(spp))));
-    if (columns * columns != spp) columns = spp;
-    const int rows = spp / columns;
+/// How `spp` samples share a pixel: an n×n grid when spp = n², else a 1×spp row.
+struct SampleGrid {
+    int columns = 1, rows = 1;
+    explicit SampleGrid(int spp) {
+        columns = static_cast<int>(std::lround(std::sqrt(static_cast<double>(spp))));
+        if (columns * columns != spp) columns = spp;
+        rows = spp / columns;
+    }
+};
+
+/// Where sample `s` falls inside its pixel, in [0, 1)²: one jittered point per cell of the grid.
+/// A grid of one cell gives the pixel's own point (½, ½).
+inline Vec2f pixel_sample_offset(const SampleGrid& grid, uint32_t pixel_index, int s) {
+    if (grid.columns * grid.rows == 1) return {0.5f, 0.5f};
     const uint32_t seed = hash32(pixel_index * 0x9e3779b9U + static_cast<uint32_t>(s));
     const float jitter_x = unit_float(hash32(seed ^ 0x68bc21ebU));
     const float jitter_y = unit_float(hash32(seed ^ 0x02e5be93U));
-    return {(static_cast<float>(s % columns) + jitter_x) / static_cast<float>(columns),
-            (static_cast<float>(s / columns) + jitter_y) / static_cast<float>(rows)};
+    return {(static_cast<float>(s % grid.columns) + jitter_x) / static_cast<float>(grid.columns),
+            (static_cast<float>(s / grid.columns) + jitter_y) / static_cast<float>(grid.rows)};
+}
+
+/// The same for `spp` samples (the grid found anew: renderers keep one SampleGrid instead).
+inline Vec2f pixel_sample_offset(uint32_t pixel_index, int s, int spp) {
+    return pixel_sample_offset(SampleGrid(spp), pixel_index, s);
 }
 
 /// The point on a thin lens for sample `s` of a pixel, in [0, 1)² (camera_ray maps it to the disk).
