@@ -366,10 +366,11 @@ inline unsigned frustum_children(const WideBvhNode& node, const PacketFrustum& f
 }
 
 // Walks a mesh's wide BVH with the packet as a frustum: the children it enters are visited
-// nearest first by its entry, the others wait on the stack with their entry and are dropped
-// when popped if they begin beyond max_cull() (the farthest of the live lanes' cull distances,
-// read again after every leaf). visit_leaf(payload) returns true to stop.
-template <typename CullFn, typename LeafFn>
+// nearest first by its entry (without kNearFirst, for an any-hit query, in slot order), the
+// others wait on the stack with their entry and are dropped when popped if they begin beyond
+// max_cull() (the farthest of the live lanes' cull distances, read again after every leaf).
+// visit_leaf(payload) returns true to stop.
+template <bool kNearFirst, typename CullFn, typename LeafFn>
 inline void traverse_frustum(const WideBvhNode* nodes, const PacketFrustum& f, float t_min, CullFn&& max_cull,
                              LeafFn&& visit_leaf) {
     struct Pending {
@@ -385,6 +386,13 @@ inline void traverse_frustum(const WideBvhNode* nodes, const PacketFrustum& f, f
             const WideBvhNode& node = nodes[ref];
             wide8::VF t_entry;
             unsigned hits = frustum_children(node, f, t_min, cull, t_entry);
+            if (hits != 0 && !kNearFirst) {  // any order will do: the cull distance cannot change
+                const unsigned first = lowest_bit(hits);
+                for (hits &= hits - 1; hits; hits &= hits - 1)
+                    stack[stack_size++] = {node.child[lowest_bit(hits)], -__builtin_inff()};
+                ref = node.child[first];
+                continue;
+            }
             if (hits != 0) {
                 float t[kWideBvhWidth];
                 wide8::store(t, t_entry);
@@ -632,7 +640,7 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
 #ifdef RAYCAST_PACKET_FRUSTUM
     SameOctant octant;
     if (s.t_min >= 0 && same_octant(r, octant)) {
-        traverse_frustum(mesh.nodes, make_frustum(r, octant), s.t_min,
+        traverse_frustum<true>(mesh.nodes, make_frustum(r, octant), s.t_min,
                          [&] { return max_of_lanes(cull_distance_v(s.best_t), r.live); }, visit_leaf);
         return;
     }
@@ -668,7 +676,7 @@ inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const
     SameOctant octant;
     if (t_min >= 0 && same_octant(r, octant)) {
         const float cull = max_of_lanes(t_cull, r.live);  // fixed: any-hit queries do not shorten
-        traverse_frustum(mesh.nodes, make_frustum(r, octant), t_min, [cull] { return cull; }, visit_leaf);
+        traverse_frustum<false>(mesh.nodes, make_frustum(r, octant), t_min, [cull] { return cull; }, visit_leaf);
         return;
     }
 #endif
@@ -745,16 +753,16 @@ inline bool coherent(const PacketRays& r) {
     return same_octant(r, octant);
 }
 
-// Calls trace(rays, w) for each set of the live rays that share a watertight axis permutation
-// (usually one set: the rays of a packet point the same way), with rays.live narrowed to it.
+// Calls trace(r, w) for each set of the live rays that share a watertight axis permutation
+// (usually one set: the rays of a packet point the same way), with r.live narrowed to it (and
+// left so: r is the caller's copy).
 template <typename TraceFn>
-inline void for_each_permutation(const PacketRays& r, TraceFn&& trace) {
+inline void for_each_permutation(PacketRays& r, TraceFn&& trace) {
     AxisSet sets[6];
     const int count = axis_sets(r, sets);
     for (int i = 0; i < count; ++i) {
-        PacketRays subset = r;
-        subset.live = sets[i].lanes;
-        trace(subset, make_watertight_packet(r, sets[i]));
+        r.live = sets[i].lanes;
+        trace(r, make_watertight_packet(r, sets[i]));
     }
 }
 
@@ -784,9 +792,9 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
                 }
                 const MeshView& mesh = view.meshes[instance.shape];
                 if (!mesh.nodes) continue;
-                const PacketRays local = instance.transform == kNoTransformIndex
-                                             ? r
-                                             : transform_packet(r, view.object_from_world[instance.transform]);
+                PacketRays local = instance.transform == kNoTransformIndex
+                                       ? r
+                                       : transform_packet(r, view.object_from_world[instance.transform]);
                 if (!coherent(local)) {
                     intersect_instance_lanes(s, id, lanes);
                     continue;
@@ -830,20 +838,20 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
                 occluded_lanes(id);
             } else if (view.meshes[instance.shape].nodes) {
                 const MeshView& mesh = view.meshes[instance.shape];
-                const PacketRays local = instance.transform == kNoTransformIndex
-                                             ? r
-                                             : transform_packet(r, view.object_from_world[instance.transform]);
+                PacketRays local = instance.transform == kNoTransformIndex
+                                       ? r
+                                       : transform_packet(r, view.object_from_world[instance.transform]);
                 if (!coherent(local)) {
-                    PacketRays traced = local;
-                    occluded_mesh_scattered(traced, mesh, t_min, t_max_v, t_cull, blocked);
-                    r.live = andnot(r.live, andnot(local.live, traced.live));  // those it blocked
+                    const VM traced = local.live;
+                    occluded_mesh_scattered(local, mesh, t_min, t_max_v, t_cull, blocked);
+                    r.live = andnot(r.live, andnot(traced, local.live));  // those it blocked
                     if (!any(r.live)) return true;
                     continue;
                 }
-                for_each_permutation(local, [&](const PacketRays& subset, const WatertightPacket& w) {
-                    PacketRays traced = subset;
-                    occluded_mesh_packet(traced, w, mesh, t_min, t_max_v, t_cull, blocked);
-                    r.live = andnot(r.live, andnot(subset.live, traced.live));  // those it blocked
+                for_each_permutation(local, [&](PacketRays& subset, const WatertightPacket& w) {
+                    const VM traced = subset.live;
+                    occluded_mesh_packet(subset, w, mesh, t_min, t_max_v, t_cull, blocked);
+                    r.live = andnot(r.live, andnot(traced, subset.live));  // those it blocked
                 });
             }
             if (!any(r.live)) return true;
