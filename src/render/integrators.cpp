@@ -66,7 +66,9 @@ ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit, c
     // Built in place: a copy of the point just written field by field would read it back in
     // wider pieces than were stored, which the processor cannot forward from its store buffer.
     ShadingFrame frame{known ? *known : surface_at(scene, ray, hit), {}, {}, false, 0};
-    frame.normal = frame.surface.normal;
+    // Likewise the normal comes from where it was written long ago when the point was known: the
+    // copy above stores 16 bytes at a time, and the normal straddles two such stores.
+    frame.normal = known ? known->normal : frame.surface.normal;
     frame.to_viewer = normalize(-ray.direction);
     frame.back_face = dot(frame.normal, frame.to_viewer) < 0;
     frame.travel_scale = ray_travel_scale(ray.origin, ray.direction, hit.t);
@@ -474,26 +476,12 @@ bool traces_camera_shadows(const Integrator& integrator) {
            !integrator.options.transparent_shadows && !integrator.scene.lights.empty();
 }
 
-void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
-                          int count, CameraShadows* shadows) {
+namespace {
+
+// The shadow rays of trace_camera_shadows from the frames of its hits (offsets[h] < 0: none).
+void trace_frame_shadows(const Integrator& integrator, const PacketTracer& tracer, const ShadingFrame* frames,
+                         const float* offsets, const int* lane_of, int hit_count, CameraShadows* shadows) {
     const Scene& scene = integrator.scene;
-    // Each hit as local shading sees it (whitted_hit_radiance and local_shading above).
-    ShadingFrame frames[kMaxPacketLanes];
-    float offsets[kMaxPacketLanes];
-    int lane_of[kMaxPacketLanes];
-    int hit_count = 0;
-    for (int k = 0; k < count; ++k) {
-        shadows[k] = CameraShadows{};
-        if (!hits[k].is_hit()) continue;
-        shadows[k].surface = surface_at(scene, rays[k], hits[k]);
-        shadows[k].surface_found = true;
-        const ShadingFrame frame = shading_frame(scene, rays[k], hits[k], &shadows[k].surface);
-        if (frame.back_face && !scene.conventions.shade_back_faces && scene.conventions.black_back_faces)
-            continue;  // black, unlit
-        frames[hit_count] = frame;
-        offsets[hit_count] = ray_offset_distance(frame.surface.position, frame.travel_scale);
-        lane_of[hit_count++] = k;
-    }
     if (hit_count == 0) return;
     const size_t lights = std::min<size_t>(scene.lights.size(), 64);
     for (size_t i = 0; i < lights; ++i) {
@@ -503,6 +491,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         int traced_lane[kMaxPacketLanes];  // the hit of each ray
         int ray_count = 0;
         for (int h = 0; h < hit_count; ++h) {
+            if (offsets[h] < 0) continue;
             const SurfacePoint& surface = frames[h].surface;
             const Illumination arriving = illuminate(scene.lights[i], surface.position);
             if (!needs_shadow_ray(scene, scene.materials[surface.material], frames[h], arriving)) continue;
@@ -520,6 +509,35 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
             answers.blocked |= uint64_t{blocked[r]} << i;
         }
     }
+}
+
+}  // namespace
+
+void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
+                          int count, CameraShadows* shadows) {
+    const Scene& scene = integrator.scene;
+    // Each hit as local shading sees it (whitted_hit_radiance and local_shading above). The
+    // frames are made in place, and each surface point is copied to shadows[k] only at the
+    // end: a copy of a struct just written reads it back in wider pieces than were stored, which
+    // waits for the stores to reach the cache (the processor cannot forward them).
+    ShadingFrame frames[kMaxPacketLanes];
+    float offsets[kMaxPacketLanes];
+    int lane_of[kMaxPacketLanes];
+    int hit_count = 0;
+    for (int k = 0; k < count; ++k) {
+        shadows[k] = CameraShadows{};
+        if (!hits[k].is_hit()) continue;
+        shadows[k].surface_found = true;
+        ShadingFrame& frame = frames[hit_count];
+        frame = shading_frame(scene, rays[k], hits[k]);
+        lane_of[hit_count++] = k;
+        if (frame.back_face && !scene.conventions.shade_back_faces && scene.conventions.black_back_faces)
+            offsets[hit_count - 1] = -1;  // black, unlit: no shadow rays
+        else
+            offsets[hit_count - 1] = ray_offset_distance(frame.surface.position, frame.travel_scale);
+    }
+    trace_frame_shadows(integrator, tracer, frames, offsets, lane_of, hit_count, shadows);
+    for (int h = 0; h < hit_count; ++h) shadows[lane_of[h]].surface = frames[h].surface;
 }
 
 }  // namespace raycast
