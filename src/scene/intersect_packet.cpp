@@ -125,6 +125,7 @@ PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa) : scene_(scene), i
     view_.instance_node_count = static_cast<uint32_t>(scene.instance_bvh.nodes.size());
     view_.plane_instances = scene.plane_instances.data();
     view_.plane_count = static_cast<uint32_t>(scene.plane_instances.size());
+    view_.spheres = scene.spheres.data();
 }
 
 void PacketTracer::intersect(const Ray* rays, int count, float t_min, Hit* hits) const {

@@ -728,9 +728,44 @@ inline void occluded_mesh_scattered(PacketRays& r, const MeshView& mesh, float t
         traverse_packet_wide<SlabTest::Widened, false>(mesh.nodes, r, unused, t_min_v, cull, visit_leaf);
 }
 
+// intersect_sphere (geometry/sphere.h) in every lane of `lanes`, operation for operation (the
+// quadratic in the form of Haines et al.): the lanes that hit with t > t_min, and their t.
+inline VM sphere_hits(const Sphere& sphere, const PacketRays& r, VM lanes, VF t_min, VF& t_hit) {
+    const VF fx = r.ox - splat(sphere.center.x), fy = r.oy - splat(sphere.center.y), fz = r.oz - splat(sphere.center.z);
+    const VF a = r.dx * r.dx + r.dy * r.dy + r.dz * r.dz;
+    const VF half_b = fx * r.dx + fy * r.dy + fz * r.dz;
+    const VF radius_squared = splat(sphere.radius * sphere.radius);
+    const VF c = (fx * fx + fy * fy + fz * fz) - radius_squared;
+    const VF k = half_b / a;
+    const VF cx = fx - r.dx * k, cy = fy - r.dy * k, cz = fz - r.dz * k;
+    const VF discriminant = radius_squared - (cx * cx + cy * cy + cz * cz);
+    VM hit = lanes & (splat(0.0f) <= discriminant);
+    if (!any(hit)) {
+        t_hit = splat(__builtin_inff());
+        return hit;
+    }
+    const VF q = splat(-0.0f) - (half_b + vcopysign(vsqrt(a * discriminant), half_b));  // -(...), exactly
+    hit = hit & (q != splat(0.0f));
+    const VF t0 = q / a, t1 = c / q;
+    const VM swap = t0 > t1;
+    const VF near = select(swap, t1, t0), far = select(swap, t0, t1);
+    const VM near_counts = near > t_min;
+    t_hit = select(near_counts, near, far);
+    return hit & (near_counts | (far > t_min));
+}
+
+// The packet's lanes `lanes` against one sphere instance, in SIMD: its hits offered as
+// intersect_instance offers them (u = v = 0, primitive 0).
+inline void intersect_sphere_lanes(PacketState& s, const PacketRays& r, uint32_t id, VM lanes) {
+    const Instance& instance = s.view.instances[id];
+    VF t;
+    const VM hit = sphere_hits(s.view.spheres[instance.shape], r, lanes, s.t_min_v, t);
+    if (any(hit)) offer(s, hit, t, splat(0.0f), splat(0.0f), id, 0, 0, 0);
+}
+
 // Moves the packet into an instance's object space as to_object_space does, operation for
 // operation.
-inline PacketRays transform_packet(const PacketRays& r, const Mat4& m) {
+inline PacketRays transform_packet(const PacketRays& r, const Mat4& m, bool with_inverses = true) {
     PacketRays o;
     o.ox = splat(m.m[0][0]) * r.ox + splat(m.m[0][1]) * r.oy + splat(m.m[0][2]) * r.oz + splat(m.m[0][3]);
     o.oy = splat(m.m[1][0]) * r.ox + splat(m.m[1][1]) * r.oy + splat(m.m[1][2]) * r.oz + splat(m.m[1][3]);
@@ -739,7 +774,7 @@ inline PacketRays transform_packet(const PacketRays& r, const Mat4& m) {
     o.dy = splat(m.m[1][0]) * r.dx + splat(m.m[1][1]) * r.dy + splat(m.m[1][2]) * r.dz;
     o.dz = splat(m.m[2][0]) * r.dx + splat(m.m[2][1]) * r.dy + splat(m.m[2][2]) * r.dz;
     o.live = r.live;
-    prepare_inverses(o);
+    if (with_inverses) prepare_inverses(o);
     return o;
 }
 
@@ -786,6 +821,14 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
             for (uint32_t i = first; i < first + n; ++i) {
                 const uint32_t id = view.instance_ids[i];
                 const Instance& instance = view.instances[id];
+                if (instance.kind == ShapeKind::Sphere) {
+                    if (instance.transform == kNoTransformIndex)
+                        intersect_sphere_lanes(s, r, id, lanes);
+                    else  // the sphere test needs no inverse directions
+                        intersect_sphere_lanes(s, transform_packet(r, view.object_from_world[instance.transform], false),
+                                               id, lanes);
+                    continue;
+                }
                 if (instance.kind != ShapeKind::Mesh) {
                     intersect_instance_lanes(s, id, lanes);
                     continue;
@@ -834,7 +877,17 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
         for (uint32_t i = first; i < first + n; ++i) {
             const uint32_t id = view.instance_ids[i];
             const Instance& instance = view.instances[id];
-            if (instance.kind != ShapeKind::Mesh) {
+            if (instance.kind == ShapeKind::Sphere) {  // in SIMD, as intersect_sphere_lanes
+                VF t;
+                const Sphere& sphere = view.spheres[instance.shape];
+                const VM hit = instance.transform == kNoTransformIndex
+                                   ? sphere_hits(sphere, r, r.live, t_min_v, t)
+                                   : sphere_hits(sphere, transform_packet(r, view.object_from_world[instance.transform], false),
+                                                 r.live, t_min_v, t);
+                const VM now_blocked = hit & (t < t_max_v);
+                for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
+                r.live = andnot(r.live, now_blocked);
+            } else if (instance.kind != ShapeKind::Mesh) {
                 occluded_lanes(id);
             } else if (view.meshes[instance.shape].nodes) {
                 const MeshView& mesh = view.meshes[instance.shape];

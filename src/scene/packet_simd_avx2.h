@@ -34,6 +34,12 @@ inline VM mask_from_bits(unsigned b) {
     return {_mm256_castsi256_ps(_mm256_cmpeq_epi32(selected, lane_bits))};
 }
 inline VF select(VM m, VF a, VF b) { return {_mm256_blendv_ps(b.v, a.v, m.v)}; }
+inline VF vsqrt(VF a) { return {_mm256_sqrt_ps(a.v)}; }
+// |magnitude| with the sign of `sign`, as std::copysign.
+inline VF vcopysign(VF magnitude, VF sign) {
+    const __m256 sign_bit = _mm256_set1_ps(-0.0f);
+    return {_mm256_or_ps(_mm256_andnot_ps(sign_bit, magnitude.v), _mm256_and_ps(sign_bit, sign.v))};
+}
 inline float hmin(VF a) {
     __m128 m = _mm_min_ps(_mm256_castps256_ps128(a.v), _mm256_extractf128_ps(a.v, 1));
     m = _mm_min_ps(m, _mm_movehl_ps(m, m));

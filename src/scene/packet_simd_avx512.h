@@ -32,5 +32,12 @@ inline unsigned sign_bits(VF a) {
 }
 inline VM mask_from_bits(unsigned b) { return {static_cast<__mmask16>(b)}; }
 inline VF select(VM m, VF a, VF b) { return {_mm512_mask_blend_ps(m.m, b.v, a.v)}; }
+inline VF vsqrt(VF a) { return {_mm512_sqrt_ps(a.v)}; }
+// |magnitude| with the sign of `sign`, as std::copysign (integer logic: AVX512F has no float and/or).
+inline VF vcopysign(VF magnitude, VF sign) {
+    const __m512i sign_bit = _mm512_set1_epi32(static_cast<int>(0x80000000u));
+    return {_mm512_castsi512_ps(_mm512_or_si512(_mm512_andnot_si512(sign_bit, _mm512_castps_si512(magnitude.v)),
+                                                _mm512_and_si512(sign_bit, _mm512_castps_si512(sign.v))))};
+}
 inline float hmin(VF a) { return _mm512_reduce_min_ps(a.v); }
 inline float hmax(VF a) { return _mm512_reduce_max_ps(a.v); }

@@ -84,3 +84,14 @@ inline unsigned sign_bits(VF a) {
     for (int i = 0; i < kLanes; ++i) m |= __builtin_signbit(a.v[i]) ? 1u << i : 0u;
     return m;
 }
+inline VF vsqrt(VF a) {
+    VF r;
+    for (int i = 0; i < kLanes; ++i) r.v[i] = __builtin_sqrtf(a.v[i]);
+    return r;
+}
+// |magnitude| with the sign of `sign`, as std::copysign.
+inline VF vcopysign(VF magnitude, VF sign) {
+    VF r;
+    for (int i = 0; i < kLanes; ++i) r.v[i] = __builtin_copysignf(magnitude.v[i], sign.v[i]);
+    return r;
+}

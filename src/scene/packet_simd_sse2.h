@@ -34,3 +34,9 @@ inline VM mask_from_bits(unsigned b) {
     return {_mm_castsi128_ps(_mm_cmpeq_epi32(selected, lane_bits))};
 }
 inline VF select(VM m, VF a, VF b) { return {_mm_or_ps(_mm_and_ps(m.v, a.v), _mm_andnot_ps(m.v, b.v))}; }
+inline VF vsqrt(VF a) { return {_mm_sqrt_ps(a.v)}; }
+// |magnitude| with the sign of `sign`, as std::copysign.
+inline VF vcopysign(VF magnitude, VF sign) {
+    const __m128 sign_bit = _mm_set1_ps(-0.0f);
+    return {_mm_or_ps(_mm_andnot_ps(sign_bit, magnitude.v), _mm_and_ps(sign_bit, sign.v))};
+}

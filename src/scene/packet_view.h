@@ -32,6 +32,7 @@ struct PacketSceneView {
     uint32_t instance_node_count = 0;
     const uint32_t* plane_instances = nullptr;
     uint32_t plane_count = 0;
+    const Sphere* spheres = nullptr;  ///< scene.spheres, tested in SIMD
 };
 
 /// The closest hit of one instance along a world-space ray, merged into `hit`, and whether one
