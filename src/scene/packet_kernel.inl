@@ -686,10 +686,11 @@ inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const
 
 // Any hits nearer than t_max of rays that go different ways (ambient occlusion: rays from one
 // point spread over a hemisphere), each blocked ray marked and taken out of r.live. They walk the
-// BVH together with the general slab test, so a node's box tests serve every ray that goes near
-// it; at a leaf, the rays that reached it are tested against its triangles in sets that share a
-// watertight permutation (at most six; one or two at most leaves, whose rays arrive from nearby
-// directions), each set with the group's vertices sheared for it.
+// BVH together, each lane with the single-ray kernel's slab test (SlabTest::AnyOctant), children
+// in slot order, so a node's box tests serve every ray that goes near it; at a leaf, the rays
+// that reached it are tested against its triangles in sets that share a watertight permutation
+// (at most six; one or two at most leaves, whose rays arrive from nearby directions), each set
+// with the group's vertices sheared for it.
 inline void occluded_mesh_scattered(PacketRays& r, const MeshView& mesh, float t_min, VF t_max, VF t_cull,
                                     bool* blocked) {
     AxisSet axes[6];
