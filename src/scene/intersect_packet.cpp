@@ -126,6 +126,7 @@ PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa) : scene_(scene), i
     view_.plane_instances = scene.plane_instances.data();
     view_.plane_count = static_cast<uint32_t>(scene.plane_instances.size());
     view_.spheres = scene.spheres.data();
+    view_.planes = scene.planes.data();
 }
 
 void PacketTracer::intersect(const Ray* rays, int count, float t_min, Hit* hits) const {

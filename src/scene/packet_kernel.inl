@@ -755,6 +755,14 @@ inline VM sphere_hits(const Sphere& sphere, const PacketRays& r, VM lanes, VF t_
     return hit & (near_counts | (far > t_min));
 }
 
+// intersect_plane (geometry/plane.h) in every lane of `lanes`, operation for operation.
+inline VM plane_hits(const Plane& plane, const PacketRays& r, VM lanes, VF t_min, VF& t_hit) {
+    const VF nx = splat(plane.normal.x), ny = splat(plane.normal.y), nz = splat(plane.normal.z);
+    const VF denominator = nx * r.dx + ny * r.dy + nz * r.dz;
+    t_hit = (splat(plane.offset) - (nx * r.ox + ny * r.oy + nz * r.oz)) / denominator;
+    return lanes & (denominator != splat(0.0f)) & (t_hit > t_min);  // != is true for NaN, as == 0 is false
+}
+
 // The packet's lanes `lanes` against one sphere instance, in SIMD: its hits offered as
 // intersect_instance offers them (u = v = 0, primitive 0).
 inline void intersect_sphere_lanes(PacketState& s, const PacketRays& r, uint32_t id, VM lanes) {
@@ -809,11 +817,18 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
     const PacketRays r = load_packet(rays, count);
     refresh_best(s);
 
-    // Planes are unbounded and few: the scalar code tests them, as the single-ray path does.
-    for (uint32_t i = 0; i < view.plane_count; ++i)
-        for (int lane = 0; lane < count; ++lane)
-            intersect_instance(*view.scene, view.plane_instances[i], rays[lane], t_min, hits[lane]);
-    if (view.plane_count > 0) refresh_best(s);
+    // Planes are unbounded and few: each is tested outside the BVH, as the single-ray path does.
+    for (uint32_t i = 0; i < view.plane_count; ++i) {
+        const uint32_t id = view.plane_instances[i];
+        const Instance& instance = view.instances[id];
+        const Plane& plane = view.planes[instance.shape];
+        VF t;
+        const VM hit = instance.transform == kNoTransformIndex
+                           ? plane_hits(plane, r, r.live, s.t_min_v, t)
+                           : plane_hits(plane, transform_packet(r, view.object_from_world[instance.transform], false),
+                                        r.live, s.t_min_v, t);
+        if (any(hit)) offer(s, hit, t, splat(0.0f), splat(0.0f), id, 0, 0, 0);
+    }
     if (view.instance_node_count == 0) return;
 
     traverse_packet(
@@ -871,7 +886,18 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
         for (unsigned b = now_blocked; b; b &= b - 1) blocked[lowest_bit(b)] = true;
         r.live = andnot(r.live, mask_from_bits(now_blocked));
     };
-    for (uint32_t i = 0; i < view.plane_count && any(r.live); ++i) occluded_lanes(view.plane_instances[i]);
+    for (uint32_t i = 0; i < view.plane_count && any(r.live); ++i) {  // as in trace_packet
+        const Instance& instance = view.instances[view.plane_instances[i]];
+        const Plane& plane = view.planes[instance.shape];
+        VF t;
+        const VM hit = instance.transform == kNoTransformIndex
+                           ? plane_hits(plane, r, r.live, t_min_v, t)
+                           : plane_hits(plane, transform_packet(r, view.object_from_world[instance.transform], false),
+                                        r.live, t_min_v, t);
+        const VM now_blocked = hit & (t < t_max_v);
+        for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
+        r.live = andnot(r.live, now_blocked);
+    }
     if (view.instance_node_count == 0 || !any(r.live)) return;
 
     traverse_packet(view.instance_nodes, r, t_min_v, [&] { return t_cull; }, [&](uint32_t first, uint32_t n, VM) {

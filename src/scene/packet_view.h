@@ -33,6 +33,7 @@ struct PacketSceneView {
     const uint32_t* plane_instances = nullptr;
     uint32_t plane_count = 0;
     const Sphere* spheres = nullptr;  ///< scene.spheres, tested in SIMD
+    const Plane* planes = nullptr;    ///< scene.planes, likewise
 };
 
 /// The closest hit of one instance along a world-space ray, merged into `hit`, and whether one
