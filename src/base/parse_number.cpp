@@ -48,9 +48,11 @@ NumberResult parse_float(const char* first, const char* last, float& value) {
     int64_t decimal_exponent = 0;
     bool truncated = false;
     bool any_digit = false;
+    // Leading zeros add nothing; skipped first, so that the digit loops need not ask (the mantissa
+    // is nonzero from the first digit they see, which is not a zero).
+    for (; p != last && *p == '0'; ++p) any_digit = true;
     for (; p != last && is_digit(*p); ++p) {
         any_digit = true;
-        if (mantissa == 0 && *p == '0') continue;
         if (significant_digits < 19) {
             mantissa = mantissa * 10 + static_cast<uint64_t>(*p - '0');
             ++significant_digits;
@@ -62,12 +64,14 @@ NumberResult parse_float(const char* first, const char* last, float& value) {
     if (p != last && *p == '.') {
         const char* after_point = p + 1;
         const char* q = after_point;
+        if (mantissa == 0) {  // zeros before the first significant digit only move the point
+            for (; q != last && *q == '0'; ++q) {
+                any_digit = true;
+                --decimal_exponent;
+            }
+        }
         for (; q != last && is_digit(*q); ++q) {
             any_digit = true;
-            if (mantissa == 0 && *q == '0') {
-                --decimal_exponent;
-                continue;
-            }
             if (significant_digits < 19) {
                 mantissa = mantissa * 10 + static_cast<uint64_t>(*q - '0');
                 ++significant_digits;
