@@ -4,7 +4,7 @@
 //
 // A packet is kLanes rays, from neighbouring pixels or from a packet's hits towards one light. It
 // walks each BVH together: a node is entered when any ray's slab test passes, so one box test in
-// SIMD serves every ray; where the rays all go one way and the kernel has 8-lane registers, one
+// SIMD serves every ray; for pinhole camera rays, where the kernel has 8-lane registers, one
 // frustum test serves all eight children of a node (PacketFrustum). Meshes have wide BVHs and
 // triangle groups (geometry/triangle_groups.h): a group's vertices are moved into every ray's
 // watertight space once, and each triangle is then tested in every lane with exactly the
@@ -314,7 +314,10 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
 // origins and inverses is least and greatest at a corner of those ranges, rounding included:
 // the frustum's entry is at most any ray's, its exit at least any ray's, and a box that any ray
 // enters passes (with a few that none enters; the triangles, tested in every lane, decide). For a
-// block of camera rays the ranges are narrow and a node costs one test instead of eight.
+// block of pinhole camera rays (one origin, directions a pixel apart) the ranges are narrow and a
+// node costs one test instead of eight. Only those use it: where the origins spread too, the
+// corners bound far more than any ray reaches (a thin lens's rays at 1M triangles rendered 7x
+// slower, shadow packets on bench/ray_tracing.sh's glass scene 3x), and the lanes' own tests win.
 struct PacketFrustum {
     int near[3];                     // which bound is near, per axis (SameOctant)
     float o_lo[3], o_hi[3];          // the origin components' range over the live lanes
@@ -325,6 +328,13 @@ struct PacketFrustum {
 // The greatest of the live lanes of v, and the least.
 inline float max_of_lanes(VF v, VM live) { return hmax(select(live, v, splat(-__builtin_inff()))); }
 inline float min_of_lanes(VF v, VM live) { return hmin(select(live, v, splat(__builtin_inff()))); }
+
+// Whether the live lanes share one origin (a pinhole camera's rays).
+inline bool one_origin(const PacketRays& r) {
+    return min_of_lanes(r.ox, r.live) == max_of_lanes(r.ox, r.live) &&
+           min_of_lanes(r.oy, r.live) == max_of_lanes(r.oy, r.live) &&
+           min_of_lanes(r.oz, r.live) == max_of_lanes(r.oz, r.live);
+}
 
 inline PacketFrustum make_frustum(const PacketRays& r, const SameOctant& octant) {
     const VM live = r.live;
@@ -366,11 +376,10 @@ inline unsigned frustum_children(const WideBvhNode& node, const PacketFrustum& f
 }
 
 // Walks a mesh's wide BVH with the packet as a frustum: the children it enters are visited
-// nearest first by its entry (without kNearFirst, for an any-hit query, in slot order), the
-// others wait on the stack with their entry and are dropped when popped if they begin beyond
-// max_cull() (the farthest of the live lanes' cull distances, read again after every leaf).
-// visit_leaf(payload) returns true to stop.
-template <bool kNearFirst, typename CullFn, typename LeafFn>
+// nearest first by its entry, the others wait on the stack with their entry and are dropped when
+// popped if they begin beyond max_cull() (the farthest of the live lanes' cull distances, read
+// again after every leaf). visit_leaf(payload) returns true to stop.
+template <typename CullFn, typename LeafFn>
 inline void traverse_frustum(const WideBvhNode* nodes, const PacketFrustum& f, float t_min, CullFn&& max_cull,
                              LeafFn&& visit_leaf) {
     struct Pending {
@@ -386,13 +395,6 @@ inline void traverse_frustum(const WideBvhNode* nodes, const PacketFrustum& f, f
             const WideBvhNode& node = nodes[ref];
             wide8::VF t_entry;
             unsigned hits = frustum_children(node, f, t_min, cull, t_entry);
-            if (hits != 0 && !kNearFirst) {  // any order will do: the cull distance cannot change
-                const unsigned first = lowest_bit(hits);
-                for (hits &= hits - 1; hits; hits &= hits - 1)
-                    stack[stack_size++] = {node.child[lowest_bit(hits)], -__builtin_inff()};
-                ref = node.child[first];
-                continue;
-            }
             if (hits != 0) {
                 float t[kWideBvhWidth];
                 wide8::store(t, t_entry);
@@ -639,8 +641,8 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
     };
 #ifdef RAYCAST_PACKET_FRUSTUM
     SameOctant octant;
-    if (s.t_min >= 0 && same_octant(r, octant)) {
-        traverse_frustum<true>(mesh.nodes, make_frustum(r, octant), s.t_min,
+    if (s.t_min >= 0 && same_octant(r, octant) && one_origin(r)) {
+        traverse_frustum(mesh.nodes, make_frustum(r, octant), s.t_min,
                          [&] { return max_of_lanes(cull_distance_v(s.best_t), r.live); }, visit_leaf);
         return;
     }
@@ -672,14 +674,6 @@ inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const
             block += group_blocks(group[0], group[1]);
         }
     };
-#ifdef RAYCAST_PACKET_FRUSTUM
-    SameOctant octant;
-    if (t_min >= 0 && same_octant(r, octant)) {
-        const float cull = max_of_lanes(t_cull, r.live);  // fixed: any-hit queries do not shorten
-        traverse_frustum<false>(mesh.nodes, make_frustum(r, octant), t_min, [cull] { return cull; }, visit_leaf);
-        return;
-    }
-#endif
     traverse_packet_wide(mesh.nodes, r, t_min, [&] { return t_cull; },
                          [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
 }
