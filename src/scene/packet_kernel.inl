@@ -505,18 +505,19 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
     }
 }
 
-// traverse_packet_wide with the fastest slab test the packet allows.
-template <typename CullFn, typename LeafFn>
+// traverse_packet_wide with the fastest slab test the packet allows (kNearFirst: for a closest-hit
+// query; an any-hit query takes the children in slot order).
+template <bool kNearFirst, typename CullFn, typename LeafFn>
 inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, float t_min, CullFn&& t_cull,
                                  LeafFn&& visit_leaf) {
     SameOctant octant;
     const VF t_min_v = splat(t_min);
     if (t_min < 0)
-        traverse_packet_wide<SlabTest::Widened, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::Widened, kNearFirst>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
     else if (same_octant(r, octant))
-        traverse_packet_wide<SlabTest::SameOctant, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::SameOctant, kNearFirst>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
     else
-        traverse_packet_wide<SlabTest::AnyOctant, true>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::AnyOctant, kNearFirst>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
 }
 
 // Offers each lane in `candidates` the hit (t, u, v) on (object, prim); keeps the closer, with
@@ -647,8 +648,8 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
         return;
     }
 #endif
-    traverse_packet_wide(mesh.nodes, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
-                         [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
+    traverse_packet_wide<true>(mesh.nodes, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
+                               [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
 }
 
 // Any hits nearer than t_max of the rays of r.live, which share w's permutation, with one mesh:
@@ -674,8 +675,8 @@ inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const
             block += group_blocks(group[0], group[1]);
         }
     };
-    traverse_packet_wide(mesh.nodes, r, t_min, [&] { return t_cull; },
-                         [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
+    traverse_packet_wide<false>(mesh.nodes, r, t_min, [&] { return t_cull; },
+                                [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
 }
 
 // Any hits nearer than t_max of rays that go different ways (ambient occlusion: rays from one
