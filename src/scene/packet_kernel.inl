@@ -309,7 +309,8 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
 #ifdef RAYCAST_PACKET_FRUSTUM
 // A packet whose live rays go the same way along every axis (with t_min >= 0), as one frustum:
 // each node's eight child boxes are tested at once, in one 8-lane register (wide8, the TU's
-// 8-lane wrapper), against bounds on what every ray's own slab test (child_hits<true>) computes.
+// 8-lane wrapper), against bounds on what every ray's own slab test (SlabTest::SameOctant)
+// computes.
 // Float subtraction and multiplication are monotonic, so (bound - o) * inverse over the lanes'
 // origins and inverses is least and greatest at a corner of those ranges, rounding included:
 // the frustum's entry is at most any ray's, its exit at least any ray's, and a box that any ray
@@ -652,42 +653,22 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
                                [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
 }
 
-// Any hits nearer than t_max of the rays of r.live, which share w's permutation, with one mesh:
-// each blocked ray is marked and leaves r.live.
-inline void occluded_mesh_packet(PacketRays& r, const WatertightPacket& w, const MeshView& mesh, float t_min, VF t_max,
-                                 VF t_cull, bool* blocked) {
-    ShearedVertices sheared;
-    const VF t_min_v = splat(t_min);
-    auto visit_leaf = [&](uint32_t first_block) {
-        for (uint32_t block = first_block;;) {
-            const unsigned char* group = mesh.groups[block].bytes;
-            shear_vertices(group, w, sheared);
-            for (uint32_t lane = 0; lane < group[0]; ++lane) {
-                const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, t_min_v);
-                if (!any(h.hit)) continue;
-                const VM now_blocked = h.hit & (h.t < t_max);
-                if (!any(now_blocked)) continue;
-                for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
-                r.live = andnot(r.live, now_blocked);
-                if (!any(r.live)) return true;
-            }
-            if (group[2] & kGroupEndsLeaf) return false;
-            block += group_blocks(group[0], group[1]);
-        }
-    };
-    traverse_packet_wide<false>(mesh.nodes, r, t_min, [&] { return t_cull; },
-                                [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
+// Marks the lanes of now_blocked in blocked[] and takes them out of r.live.
+inline void mark_blocked(PacketRays& r, VM now_blocked, bool* blocked) {
+    for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
+    r.live = andnot(r.live, now_blocked);
 }
 
-// Any hits nearer than t_max of rays that go different ways (ambient occlusion: rays from one
-// point spread over a hemisphere), each blocked ray marked and taken out of r.live. They walk the
-// BVH together, each lane with the single-ray kernel's slab test (SlabTest::AnyOctant), children
-// in slot order, so a node's box tests serve every ray that goes near it; at a leaf, the rays
-// that reached it are tested against its triangles in sets that share a watertight permutation
-// (at most six; one or two at most leaves, whose rays arrive from nearby directions), each set
-// with the group's vertices sheared for it.
-inline void occluded_mesh_scattered(PacketRays& r, const MeshView& mesh, float t_min, VF t_max, VF t_cull,
-                                    bool* blocked) {
+// Any hits nearer than t_max of the rays of r.live with one mesh, each blocked ray marked and
+// taken out of r.live. The rays walk the BVH together with the fastest slab test they allow,
+// children in slot order (an any-hit query), so a node's box tests serve every ray that goes near
+// it; at a leaf, the rays that reached it are tested against its triangles in sets that share a
+// watertight permutation, each set with the group's vertices sheared for it. Rays that go one way
+// (shadow rays towards one light) are one set; a hit's ambient-occlusion rays, which leave one
+// point in every direction, up to six, but only one or two at most leaves, whose rays arrive from
+// nearby directions.
+inline void occluded_mesh_packet(PacketRays& r, const MeshView& mesh, float t_min, VF t_max, VF t_cull,
+                                 bool* blocked) {
     AxisSet axes[6];
     const int set_count = axis_sets(r, axes);
     WatertightPacket sets[6];
@@ -705,9 +686,8 @@ inline void occluded_mesh_scattered(PacketRays& r, const MeshView& mesh, float t
                     if (!any(h.hit)) continue;
                     const VM now_blocked = h.hit & (h.t < t_max);
                     if (!any(now_blocked)) continue;
-                    for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
+                    mark_blocked(r, now_blocked, blocked);
                     lanes = andnot(lanes, now_blocked);
-                    r.live = andnot(r.live, now_blocked);
                     if (!any(lanes)) break;
                 }
                 if (group[2] & kGroupEndsLeaf) break;
@@ -716,12 +696,7 @@ inline void occluded_mesh_scattered(PacketRays& r, const MeshView& mesh, float t
         }
         return !any(r.live);
     };
-    const SameOctant unused{};
-    auto cull = [&] { return t_cull; };
-    if (t_min >= 0)
-        traverse_packet_wide<SlabTest::AnyOctant, false>(mesh.nodes, r, unused, t_min_v, cull, visit_leaf);
-    else
-        traverse_packet_wide<SlabTest::Widened, false>(mesh.nodes, r, unused, t_min_v, cull, visit_leaf);
+    traverse_packet_wide<false>(mesh.nodes, r, t_min, [&] { return t_cull; }, visit_leaf);
 }
 
 // intersect_sphere (geometry/sphere.h) in every lane of `lanes`, operation for operation (the
@@ -758,15 +733,6 @@ inline VM plane_hits(const Plane& plane, const PacketRays& r, VM lanes, VF t_min
     return lanes & (denominator != splat(0.0f)) & (t_hit > t_min);  // != is true for NaN, as == 0 is false
 }
 
-// The packet's lanes `lanes` against one sphere instance, in SIMD: its hits offered as
-// intersect_instance offers them (u = v = 0, primitive 0).
-inline void intersect_sphere_lanes(PacketState& s, const PacketRays& r, uint32_t id, VM lanes) {
-    const Instance& instance = s.view.instances[id];
-    VF t;
-    const VM hit = sphere_hits(s.view.spheres[instance.shape], r, lanes, s.t_min_v, t);
-    if (any(hit)) offer(s, hit, t, splat(0.0f), splat(0.0f), id, 0, 0, 0);
-}
-
 // Moves the packet into an instance's object space as to_object_space does, operation for
 // operation.
 inline PacketRays transform_packet(const PacketRays& r, const Mat4& m, bool with_inverses = true) {
@@ -782,11 +748,45 @@ inline PacketRays transform_packet(const PacketRays& r, const Mat4& m, bool with
     return o;
 }
 
+// Spheres and planes are tested in SIMD, each with its scalar test's arithmetic.
+inline bool has_simd_test(ShapeKind kind) { return kind == ShapeKind::Sphere || kind == ShapeKind::Plane; }
+
+// The lanes of `lanes` that hit a sphere or plane instance with t > t_min, and their t, found in
+// its object space (the packet moved there without the inverse directions, which neither test
+// uses).
+inline VM shape_hits(const PacketSceneView& view, const Instance& instance, const PacketRays& r, VM lanes, VF t_min,
+                     VF& t) {
+    RAYCAST_DCHECK(has_simd_test(instance.kind));
+    if (instance.transform != kNoTransformIndex) {
+        const PacketRays local = transform_packet(r, view.object_from_world[instance.transform], false);
+        return instance.kind == ShapeKind::Sphere ? sphere_hits(view.spheres[instance.shape], local, lanes, t_min, t)
+                                                  : plane_hits(view.planes[instance.shape], local, lanes, t_min, t);
+    }
+    return instance.kind == ShapeKind::Sphere ? sphere_hits(view.spheres[instance.shape], r, lanes, t_min, t)
+                                              : plane_hits(view.planes[instance.shape], r, lanes, t_min, t);
+}
+
+// The closest hits of the lanes `lanes` with a sphere or plane instance, offered as
+// intersect_instance offers them (u = v = 0, primitive 0).
+inline void intersect_shape_lanes(PacketState& s, const PacketRays& r, uint32_t id, VM lanes) {
+    VF t;
+    const VM hit = shape_hits(s.view, s.view.instances[id], r, lanes, s.t_min_v, t);
+    if (any(hit)) offer(s, hit, t, splat(0.0f), splat(0.0f), id, 0, 0, 0);
+}
+
+// The any hits nearer than t_max of the live lanes with a sphere or plane instance.
+inline void occluded_shape_lanes(const PacketSceneView& view, uint32_t id, PacketRays& r, VF t_min, VF t_max,
+                                 bool* blocked) {
+    VF t;
+    const VM hit = shape_hits(view, view.instances[id], r, r.live, t_min, t);
+    mark_blocked(r, hit & (t < t_max), blocked);
+}
+
 // Whether a packet's live rays go the same way along every axis. Such rays (primary rays, shadow
 // rays towards one light) share most of their way through a BVH. For the closest hit, rays that
 // scatter (from many surfaces) part at once, and each is faster alone, through the single-ray
 // kernel, than in a packet that tests every box for every lane; for any hits, they stay in the
-// packet (occluded_mesh_scattered): the rays that ask (ambient occlusion) leave one point.
+// packet (occluded_mesh_packet): the rays that ask (ambient occlusion) leave one point.
 inline bool coherent(const PacketRays& r) {
     SameOctant octant;
     return same_octant(r, octant);
@@ -813,17 +813,7 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
     refresh_best(s);
 
     // Planes are unbounded and few: each is tested outside the BVH, as the single-ray path does.
-    for (uint32_t i = 0; i < view.plane_count; ++i) {
-        const uint32_t id = view.plane_instances[i];
-        const Instance& instance = view.instances[id];
-        const Plane& plane = view.planes[instance.shape];
-        VF t;
-        const VM hit = instance.transform == kNoTransformIndex
-                           ? plane_hits(plane, r, r.live, s.t_min_v, t)
-                           : plane_hits(plane, transform_packet(r, view.object_from_world[instance.transform], false),
-                                        r.live, s.t_min_v, t);
-        if (any(hit)) offer(s, hit, t, splat(0.0f), splat(0.0f), id, 0, 0, 0);
-    }
+    for (uint32_t i = 0; i < view.plane_count; ++i) intersect_shape_lanes(s, r, view.plane_instances[i], r.live);
     if (view.instance_node_count == 0) return;
 
     traverse_packet(
@@ -832,12 +822,8 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
             for (uint32_t i = first; i < first + n; ++i) {
                 const uint32_t id = view.instance_ids[i];
                 const Instance& instance = view.instances[id];
-                if (instance.kind == ShapeKind::Sphere) {
-                    if (instance.transform == kNoTransformIndex)
-                        intersect_sphere_lanes(s, r, id, lanes);
-                    else  // the sphere test needs no inverse directions
-                        intersect_sphere_lanes(s, transform_packet(r, view.object_from_world[instance.transform], false),
-                                               id, lanes);
+                if (has_simd_test(instance.kind)) {
+                    intersect_shape_lanes(s, r, id, lanes);
                     continue;
                 }
                 if (instance.kind != ShapeKind::Mesh) {
@@ -878,56 +864,26 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
             const unsigned lane = lowest_bit(b);
             if (occluded_instance(*view.scene, id, rays[lane], t_min, t_max[lane])) now_blocked |= 1u << lane;
         }
-        for (unsigned b = now_blocked; b; b &= b - 1) blocked[lowest_bit(b)] = true;
-        r.live = andnot(r.live, mask_from_bits(now_blocked));
+        mark_blocked(r, mask_from_bits(now_blocked), blocked);
     };
-    for (uint32_t i = 0; i < view.plane_count && any(r.live); ++i) {  // as in trace_packet
-        const Instance& instance = view.instances[view.plane_instances[i]];
-        const Plane& plane = view.planes[instance.shape];
-        VF t;
-        const VM hit = instance.transform == kNoTransformIndex
-                           ? plane_hits(plane, r, r.live, t_min_v, t)
-                           : plane_hits(plane, transform_packet(r, view.object_from_world[instance.transform], false),
-                                        r.live, t_min_v, t);
-        const VM now_blocked = hit & (t < t_max_v);
-        for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
-        r.live = andnot(r.live, now_blocked);
-    }
+    for (uint32_t i = 0; i < view.plane_count && any(r.live); ++i)  // as in trace_packet
+        occluded_shape_lanes(view, view.plane_instances[i], r, t_min_v, t_max_v, blocked);
     if (view.instance_node_count == 0 || !any(r.live)) return;
 
     traverse_packet(view.instance_nodes, r, t_min_v, [&] { return t_cull; }, [&](uint32_t first, uint32_t n, VM) {
         for (uint32_t i = first; i < first + n; ++i) {
             const uint32_t id = view.instance_ids[i];
             const Instance& instance = view.instances[id];
-            if (instance.kind == ShapeKind::Sphere) {  // in SIMD, as intersect_sphere_lanes
-                VF t;
-                const Sphere& sphere = view.spheres[instance.shape];
-                const VM hit = instance.transform == kNoTransformIndex
-                                   ? sphere_hits(sphere, r, r.live, t_min_v, t)
-                                   : sphere_hits(sphere, transform_packet(r, view.object_from_world[instance.transform], false),
-                                                 r.live, t_min_v, t);
-                const VM now_blocked = hit & (t < t_max_v);
-                for (unsigned b = bits(now_blocked); b; b &= b - 1) blocked[lowest_bit(b)] = true;
-                r.live = andnot(r.live, now_blocked);
+            if (has_simd_test(instance.kind)) {
+                occluded_shape_lanes(view, id, r, t_min_v, t_max_v, blocked);
             } else if (instance.kind != ShapeKind::Mesh) {
                 occluded_lanes(id);
             } else if (view.meshes[instance.shape].nodes) {
-                const MeshView& mesh = view.meshes[instance.shape];
                 PacketRays local = instance.transform == kNoTransformIndex
                                        ? r
                                        : transform_packet(r, view.object_from_world[instance.transform]);
-                if (!coherent(local)) {
-                    const VM traced = local.live;
-                    occluded_mesh_scattered(local, mesh, t_min, t_max_v, t_cull, blocked);
-                    r.live = andnot(r.live, andnot(traced, local.live));  // those it blocked
-                    if (!any(r.live)) return true;
-                    continue;
-                }
-                for_each_permutation(local, [&](PacketRays& subset, const WatertightPacket& w) {
-                    const VM traced = subset.live;
-                    occluded_mesh_packet(subset, w, mesh, t_min, t_max_v, t_cull, blocked);
-                    r.live = andnot(r.live, andnot(traced, subset.live));  // those it blocked
-                });
+                occluded_mesh_packet(local, view.meshes[instance.shape], t_min, t_max_v, t_cull, blocked);
+                r.live = local.live;  // less the lanes it blocked
             }
             if (!any(r.live)) return true;
         }
