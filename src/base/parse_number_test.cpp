@@ -303,6 +303,19 @@ TEST(ParseFloat, ManyDigitsAndLongRunsOfZeros) {
     EXPECT_EQ(parse_f("1.0000000596046447753906249999999999").value, 1.0f);
 }
 
+TEST(ParseFloat, LeadingZerosAreNotSignificantDigits) {
+    // Zeros before the first nonzero digit, before or after the point, only place it: a mantissa
+    // keeps 19 significant digits, and none of them may go to those zeros.
+    const std::string zeros(30, '0');
+    EXPECT_EQ(parse_f(zeros + "1.5").value, 1.5f);
+    EXPECT_EQ(parse_f("0." + zeros + "125e31").value, 1.25f);
+    EXPECT_EQ(parse_f(zeros + "." + zeros + "3e31").value, 3.0f);
+    const std::string texts[] = {zeros + "1.5", zeros + "16777217.5", zeros + "1234567890123456789.5e-18",
+                                 "0." + zeros + "125e31", zeros + "." + zeros + "3e31",
+                                 "000", "0.000", "-00.0", "00.5", ".05"};
+    for (const std::string& text : texts) expect_like_strtof(text);
+}
+
 TEST(ParseFloat, HugeExponentWithManyDigitsMatchesStrtof) {
     // 10^100009 · 10^-1000000 is far below the smallest float: 0, as strtof says.
     const std::string small = "1" + std::string(100009, '0') + "e-1000000";
