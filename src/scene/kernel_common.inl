@@ -17,8 +17,6 @@ inline float safe_divisor(float d) {
     return scalar_abs(d) < kTiny ? (__builtin_signbit(d) ? -kTiny : kTiny) : d;
 }
 
-inline float safe_inverse_scalar(float d) { return 1.0f / safe_divisor(d); }
-
 // How a slab test stays conservative (never misses a box the ray meets): a computed distance
 // fl(fl(b - o)·fl(1/d)) is within three roundings of the true (b - o)/d, a relative error below
 // 2^-22. With a negative t_min, the entry and exit are widened by more than that (|x|·kBoxWiden,

@@ -41,8 +41,11 @@ static_assert((offsetof(WideBvhNode, bounds[0][0]) ^ kFarFromNear[0]) == offseto
 
 template <bool kWidenInverse>
 inline BoxTraversal make_box_traversal(const Ray& ray, float t_min) {
-    const float inverse[3] = {safe_inverse_scalar(ray.direction.x), safe_inverse_scalar(ray.direction.y),
-                              safe_inverse_scalar(ray.direction.z)};
+    const float ones[3] = {1.0f, 1.0f, 1.0f};
+    const float divisors[3] = {safe_divisor(ray.direction.x), safe_divisor(ray.direction.y),
+                               safe_divisor(ray.direction.z)};
+    float inverse[3];
+    divide3(ones, divisors, inverse);
     const float shrink = kWidenInverse ? kInverseShrink : 1.0f, grow = kWidenInverse ? kInverseGrow : 1.0f;
     BoxTraversal b;
     b.ox = splat_node(ray.origin.x);
@@ -192,9 +195,13 @@ inline GroupRay make_group_ray(const Ray& ray, float t_min) {
     g.okx = splat8(o[axes.kx]);
     g.oky = splat8(o[axes.ky]);
     g.okz = splat8(o[axes.kz]);
-    g.sx = splat8(d[axes.kx] / d[axes.kz]);
-    g.sy = splat8(d[axes.ky] / d[axes.kz]);
-    g.sz = splat8(1.0f / d[axes.kz]);
+    const float dividends[3] = {d[axes.kx], d[axes.ky], 1.0f};
+    const float divisors[3] = {d[axes.kz], d[axes.kz], d[axes.kz]};
+    float shear[3];
+    divide3(dividends, divisors, shear);
+    g.sx = splat8(shear[0]);
+    g.sy = splat8(shear[1]);
+    g.sz = splat8(shear[2]);
     g.t_min = splat8(t_min);
     return g;
 }

@@ -14,6 +14,11 @@ inline F8 load8(const float* p) {
     return r;
 }
 inline F8 splat8(float x) { return {{x, x, x, x, x, x, x, x}}; }
+
+// (a[i] / b[i]) for i < 3 (one SIMD division in the other wrappers).
+inline void divide3(const float* a, const float* b, float* q) {
+    for (int i = 0; i < 3; ++i) q[i] = a[i] / b[i];
+}
 inline M8 first_lanes(uint32_t n) { return {n >= 8 ? 0xffu : (1u << n) - 1}; }
 inline F8 keep(M8 m, F8 a) { return select(m, a, splat8(0.0f)); }
 inline I8 load_bytes(const unsigned char* p) {
