@@ -215,6 +215,28 @@ protected:
 
 // ---- formats by name ----
 
+// The course's conversion: clamp to [0, 1], then truncate c·255; NaN is 0.
+TEST(ToByte, ClampsThenTruncates) {
+    EXPECT_EQ(to_byte(0.0f), 0);
+    EXPECT_EQ(to_byte(-0.0f), 0);
+    EXPECT_EQ(to_byte(-2.0f), 0);
+    EXPECT_EQ(to_byte(-INFINITY), 0);
+    EXPECT_EQ(to_byte(NAN), 0);
+    EXPECT_EQ(to_byte(1e-30f), 0);
+    EXPECT_EQ(to_byte(0.5f), 127);      // 127.5, truncated
+    EXPECT_EQ(to_byte(0.999f), 254);    // 254.745
+    EXPECT_EQ(to_byte(0.99999994f), 254);  // the float below 1: 254.99998
+    EXPECT_EQ(to_byte(1.0f), 255);
+    EXPECT_EQ(to_byte(1.5f), 255);
+    EXPECT_EQ(to_byte(INFINITY), 255);
+    EXPECT_EQ(to_byte(3.0f / 255.0f), 3);  // times 255 is 3 exactly: truncation keeps it
+    uint8_t rgb[3];
+    to_bytes({0.5f, NAN, 2.0f}, rgb);
+    EXPECT_EQ(rgb[0], 127);
+    EXPECT_EQ(rgb[1], 0);
+    EXPECT_EQ(rgb[2], 255);
+}
+
 TEST(ImageFormatForPath, KnownExtensionsInAnyCase) {
     EXPECT_EQ(image_format_for_path("out.bmp"), ImageFormat::Bmp);
     EXPECT_EQ(image_format_for_path("OUT.BMP"), ImageFormat::Bmp);

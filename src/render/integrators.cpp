@@ -65,7 +65,10 @@ struct ShadingFrame {
 ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit, const SurfacePoint* known = nullptr) {
     // Built in place: a copy of the point just written field by field would read it back in
     // wider pieces than were stored, which the processor cannot forward from its store buffer.
-    ShadingFrame frame{known ? *known : surface_at(scene, ray, hit), {}, {}, false, 0};
+    // Each arm initialises the frame's point where it lies, surface_at's result included: a
+    // conditional between *known and surface_at(...) would make a temporary point and copy it.
+    ShadingFrame frame = known ? ShadingFrame{*known, {}, {}, false, 0}
+                               : ShadingFrame{surface_at(scene, ray, hit), {}, {}, false, 0};
     // Likewise the normal comes from where it was written long ago when the point was known: the
     // copy above stores 16 bytes at a time, and the normal straddles two such stores.
     frame.normal = known ? known->normal : frame.surface.normal;
