@@ -98,10 +98,9 @@ Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3
 
 /// What reaches `position` from a light along `to_light` over `distance`: 1 (all of it) when
 /// nothing is in the way, 0 when an opaque object is, and with transparent shadows the product
-/// of the transparentColor of every surface crossed. Counts and records the shadow ray. `light`
-/// is the light's index, for the context's camera_shadows (-1: none applies).
+/// of the transparentColor of every surface crossed. Counts and records the shadow ray.
 Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
-                          TraceContext& context, int light = -1);
+                          TraceContext& context);
 
 /// Whether the integrator's camera hits have shadow rays that trace_camera_shadows can trace ahead
 /// in packets: shaded mode, opaque shadows, at least one light.

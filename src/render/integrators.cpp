@@ -90,6 +90,19 @@ bool needs_shadow_ray(const Scene& scene, const Material& material, const Shadin
                                          frame.to_viewer));
 }
 
+// Light `light`'s transmittance from a camera hit whose shadow ray the render loop traced ahead
+// (trace_camera_shadows): the answer it found, the ray counted and budgeted as
+// light_transmittance counts one. False when there is no such answer.
+bool prepared_transmittance(TraceContext& context, size_t light, Vec3f& transmittance) {
+    const CameraShadows* prepared = context.depth == 0 ? context.camera_shadows : nullptr;
+    if (!prepared || light >= 64 || !((prepared->known >> light) & 1)) return false;
+    transmittance = Vec3f{1, 1, 1};
+    if (!take_ray(context)) return true;
+    ++context.counts->shadow;
+    if ((prepared->blocked >> light) & 1) transmittance = Vec3f{0, 0, 0};
+    return true;
+}
+
 // Ambient plus every light, each gated by its shadow ray when shadows are on: the course's
 // ray caster is this with no shadows and no ambient.
 Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, TraceContext& context) {
@@ -98,18 +111,18 @@ Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, Tra
     RayRecord* record = record_of(context);
     const Vec3f ambient = scene.ambient * material.diffuse;
     Vec3f color = ambient;
-    // Every shadow ray leaves the point by the same distance.
-    const float offset =
-        integrator.options.shadows ? ray_offset_distance(frame.surface.position, frame.travel_scale) : 0.0f;
+    // Every shadow ray leaves the point by the same distance, found for the first one traced
+    // here (a camera hit's may all have been traced ahead).
+    float offset = -1;
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         const Illumination arriving = illuminate(scene.lights[i], frame.surface.position);
         Vec3f transmittance{1, 1, 1};
         const bool shadow_ray = integrator.options.shadows && needs_shadow_ray(scene, material, frame, arriving);
-        if (shadow_ray) {
+        if (shadow_ray && !prepared_transmittance(context, i, transmittance)) {
+            if (offset < 0) offset = ray_offset_distance(frame.surface.position, frame.travel_scale);
             const Vec3f origin =
                 offset_ray_origin_by(frame.surface.position, frame.surface.geometric_normal, arriving.to_light, offset);
-            transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context,
-                                                static_cast<int>(i));
+            transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context);
         }
         const bool lit = transmittance != Vec3f{0, 0, 0};
         LightReflection terms{};
@@ -383,7 +396,7 @@ Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3
 }
 
 Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
-                          TraceContext& context, int light) {
+                          TraceContext& context) {
     const Scene& scene = integrator.scene;
     int shadow_record = -1;
     if (context.tree) {
@@ -419,13 +432,7 @@ Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_l
     if (!take_ray(context)) return finish({1, 1, 1}, nullptr, ray);
     ++context.counts->shadow;
     if (!integrator.options.transparent_shadows) {
-        if (!context.tree) {
-            const CameraShadows* known = context.depth == 0 ? context.camera_shadows : nullptr;
-            const bool blocked = known && light >= 0 && light < 64 && ((known->known >> light) & 1)
-                                     ? ((known->blocked >> light) & 1) != 0
-                                     : occluded(scene, ray, 0, distance);
-            return blocked ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
-        }
+        if (!context.tree) return occluded(scene, ray, 0, distance) ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
         // Explaining: the same answer, but with the blocker named.
         Hit hit;
         intersect(scene, ray, 0, hit);
