@@ -101,7 +101,8 @@ inline unsigned hit_children(const WideBvhNode& node, const BoxTraversal& r, con
 // kNearFirst, children are visited in slot order: for an any-hit query, whose cull distance never
 // changes, sorting cost more (its branches mispredict) than finding a blocker sooner saved.
 template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename CullFn, typename LeafFn>
-inline bool traverse_wide(const WideBvhNode* nodes, const Ray& ray, float t_min, CullFn&& t_cull, LeafFn&& visit_leaf,
+[[gnu::always_inline]] inline bool traverse_wide(const WideBvhNode* nodes, const Ray& ray, float t_min, CullFn&& t_cull,
+                                                LeafFn&& visit_leaf,
                           uint64_t* nodes_visited) {
     const BoxTraversal r = make_box_traversal<kWidenInverse>(ray, t_min);
     struct Pending {
