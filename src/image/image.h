@@ -40,9 +40,9 @@ struct ImageRgb8 {
 /// The course's conversion of a channel to 8 bits: clamp to [0, 1], then truncate c·255
 /// (not round). NaN becomes 0, so no image ever holds a value from a NaN.
 inline uint8_t to_byte(float c) {
-    // Selects, not branches: a row of pixels converts in SIMD, and the clamp of 1 gives 255 exactly.
-    const float clamped = c > 0 ? (c < 1 ? c : 1.0f) : 0.0f;  // NaN fails c > 0
-    return static_cast<uint8_t>(clamped * 255.0f);
+    if (!(c > 0)) return 0;  // also NaN
+    if (c >= 1) return 255;
+    return static_cast<uint8_t>(c * 255.0f);
 }
 
 /// Writes a pixel's three channels, each with to_byte.
