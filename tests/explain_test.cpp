@@ -86,6 +86,12 @@ TEST(ExplainTest, EveryPixelsExplanationHasTheRenderedColourAndBytes) {
         RenderOptions options;
     };
     std::vector<Setting> settings;
+    // The render loop shades hits that need local shading only in a loop of its own
+    // (shade_camera_hits_locally); explain always takes the radiance function's general path.
+    settings.push_back({"the course's ray caster", RenderOptions{}});
+    RenderOptions bounced;
+    bounced.bounces = 4;
+    settings.push_back({"4 bounces, no shadows", bounced});
     RenderOptions traced;
     traced.shadows = true;
     traced.bounces = 4;

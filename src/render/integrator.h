@@ -102,6 +102,16 @@ Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3
 Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
                           TraceContext& context);
 
+/// The render loop's shortcut for camera samples that need no more than local shading: for each
+/// of rays[0..count) whose colour the radiance function would find with local shading alone
+/// (shaded mode, a miss or a surface that neither reflects nor transmits, and shadow rays, if any,
+/// traced ahead: `shadows` from trace_camera_shadows), sets colors[k] to exactly that colour,
+/// counts its shadow rays in `counts` and sets shaded[k]; the others (shaded[k] false) go to the
+/// radiance function. One loop over the packet skips the general path's set-up and calls per hit
+/// (1.12x on a 1k-triangle render). The course's ray caster is entirely this.
+void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, const Hit* hits, int count,
+                               const CameraShadows* shadows, RayCounts& counts, Vec3f* colors, bool* shaded);
+
 /// Whether the integrator's camera hits have shadow rays that trace_camera_shadows can trace ahead
 /// in packets: shaded mode, opaque shadows, at least one light.
 bool traces_camera_shadows(const Integrator& integrator);

@@ -103,12 +103,34 @@ bool prepared_transmittance(TraceContext& context, size_t light, Vec3f& transmit
     return true;
 }
 
+// Ambient plus the diffuse and specular share of every light that reaches the point, where
+// reaches(i, arriving) says whether light i does, all or nothing: local_shading below when no
+// shadow ray is traced here and nothing is recorded (the same operations in the same order), and
+// the whole of shade_camera_hits_locally's shading.
+template <typename ReachesFn>
+Vec3f sum_local_shading(const Scene& scene, const Material& material, const ShadingFrame& frame, ReachesFn&& reaches) {
+    Vec3f color = scene.ambient * material.diffuse;
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Illumination arriving = illuminate(scene.lights[i], frame.surface.position);
+        if (!reaches(i, arriving)) continue;
+        const LightReflection terms =
+            reflect_light_terms(material, scene.conventions.specular, frame.normal, arriving.to_light, frame.to_viewer);
+        color += arriving.color * (terms.diffuse + terms.specular);
+    }
+    return color;
+}
+
+Vec3f unshadowed_local_shading(const Scene& scene, const Material& material, const ShadingFrame& frame) {
+    return sum_local_shading(scene, material, frame, [](size_t, const Illumination&) { return true; });
+}
+
 // Ambient plus every light, each gated by its shadow ray when shadows are on: the course's
 // ray caster is this with no shadows and no ambient.
 Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, TraceContext& context) {
     const Scene& scene = integrator.scene;
     const Material& material = scene.materials[frame.surface.material];
     RayRecord* record = record_of(context);
+    if (!integrator.options.shadows && !record) return unshadowed_local_shading(scene, material, frame);
     const Vec3f ambient = scene.ambient * material.diffuse;
     Vec3f color = ambient;
     // Every shadow ray leaves the point by the same distance, found for the first one traced
@@ -479,6 +501,46 @@ Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray
         context.record = tree->add(std::move(record));
     }
     return integrator.radiance(integrator, ray, hit, context);
+}
+
+void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, const Hit* hits, int count,
+                               const CameraShadows* shadows, RayCounts& counts, Vec3f* colors, bool* shaded) {
+    const Scene& scene = integrator.scene;
+    // whitted_hit_radiance shades a hit with local shading alone, and records nothing, when MIT's
+    // black back faces are off and the surface neither reflects nor transmits; then its only rays
+    // are shadow rays, and with opaque shadows those of a camera hit were traced ahead (shadows).
+    const bool shadow_rays = integrator.options.shadows;
+    const bool local = integrator.radiance == &whitted_radiance &&
+                       !(scene.conventions.black_back_faces && !scene.conventions.shade_back_faces) &&
+                       (!shadow_rays || (shadows && scene.lights.size() <= 64));
+    for (int k = 0; k < count; ++k) {
+        shaded[k] = false;
+        if (!local) continue;
+        if (!hits[k].is_hit()) {
+            colors[k] = scene.background;
+            shaded[k] = true;
+            continue;
+        }
+        const Material& material = scene.materials[scene.instances[hits[k].object].material];
+        if (material.reflective != Vec3f{0, 0, 0} || material.transparent != Vec3f{0, 0, 0}) continue;
+        if (!shadow_rays) {
+            colors[k] = unshadowed_local_shading(scene, material, shading_frame(scene, rays[k], hits[k]));
+        } else {
+            // A light's share counts where its shadow ray (traced ahead, counted here as
+            // local_shading counts it) was not blocked, or where none was needed. The sample's
+            // ray budget is left alone: 64 rays cannot spend it, and no later ray would use it.
+            const CameraShadows& answers = shadows[k];
+            RAYCAST_DCHECK(answers.surface_found);
+            const ShadingFrame frame = shading_frame(scene, rays[k], hits[k], &answers.surface);
+            colors[k] = sum_local_shading(scene, material, frame, [&](size_t i, const Illumination& arriving) {
+                if (!needs_shadow_ray(scene, material, frame, arriving)) return true;
+                RAYCAST_DCHECK((answers.known >> i) & 1);
+                ++counts.shadow;
+                return ((answers.blocked >> i) & 1) == 0;
+            });
+        }
+        shaded[k] = true;
+    }
 }
 
 bool traces_camera_shadows(const Integrator& integrator) {

@@ -256,6 +256,10 @@ private:
                     }
                     trace_camera_rays(rays, hits, nodes, count);
                     if (camera_shadows_) trace_camera_shadows(integrator_, tracer_, rays, hits, count, shadows);
+                    Vec3f local_colors[kMaxPacketLanes];
+                    bool shaded[kMaxPacketLanes];
+                    shade_camera_hits_locally(integrator_, rays, hits, count, camera_shadows_ ? shadows : nullptr,
+                                              worker.counts, local_colors, shaded);
                     for (int k = 0; k < count; ++k) {
                         RayCounts& counts = worker.counts;
                         counts.primary += 1;
@@ -263,8 +267,9 @@ private:
                         counts.nodes_visited += nodes[k];
                         const uint32_t index = pixel_index(camera, camera_x[k], camera_y[k]);
                         const Vec3f color =
-                            shade_camera_sample(integrator_, index, s, rays[k], hits[k], nodes[k], counts, nullptr,
-                                                camera_shadows_ ? &shadows[k] : nullptr, &tracer_);
+                            shaded[k] ? local_colors[k]
+                                      : shade_camera_sample(integrator_, index, s, rays[k], hits[k], nodes[k], counts,
+                                                            nullptr, camera_shadows_ ? &shadows[k] : nullptr, &tracer_);
                         colors[k] = s == 0 ? color : colors[k] + color;
                         if (targets_.normal_bytes) {
                             const Vec3f normal =
