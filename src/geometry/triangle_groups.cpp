@@ -86,26 +86,6 @@ void write_triangle_groups(const TriangleMesh& mesh, const uint32_t* ids, size_t
     });
 }
 
-GroupTriangle group_triangle(const GroupBlock* group, uint32_t lane) {
-    const uint32_t k = group_triangle_count(group), v = group_vertex_count(group);
-    RAYCAST_DCHECK(lane < k);
-    const unsigned char* bytes = group->bytes;
-    auto vertex = [&](uint32_t corner) {
-        const uint32_t j = bytes[group_corners_offset() + corner * k + lane];
-        Vec3f p;
-        std::memcpy(&p.x, bytes + group_vertices_offset(k) + 4 * j, 4);
-        std::memcpy(&p.y, bytes + group_vertices_offset(k) + 4 * (v + j), 4);
-        std::memcpy(&p.z, bytes + group_vertices_offset(k) + 4 * (2 * v + j), 4);
-        return p;
-    };
-    GroupTriangle triangle;
-    triangle.p0 = vertex(0);
-    triangle.p1 = vertex(1);
-    triangle.p2 = vertex(2);
-    std::memcpy(&triangle.id, bytes + group_ids_offset(k, v) + 4 * lane, 4);
-    return triangle;
-}
-
 uint32_t group_lane_of(const GroupBlock* group, uint32_t id) {
     const uint32_t k = group_triangle_count(group), v = group_vertex_count(group);
     // A group spans several blocks: address it from a pointer to its first byte, not as

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "base/check.h"
 #include "geometry/triangle_mesh.h"
 #include "math/vec.h"
 
@@ -60,8 +61,27 @@ inline const GroupBlock* next_group(const GroupBlock* group) {
     return group + group_layout::group_blocks(group_triangle_count(group), group_vertex_count(group));
 }
 
-/// Triangle `lane` (< group_triangle_count) of a group.
-GroupTriangle group_triangle(const GroupBlock* group, uint32_t lane);
+/// Triangle `lane` (< group_triangle_count) of a group. Inline: shading a mesh hit calls it once
+/// per hit, and a call would return the 40-byte triangle through memory.
+inline GroupTriangle group_triangle(const GroupBlock* group, uint32_t lane) {
+    const uint32_t k = group_triangle_count(group), v = group_vertex_count(group);
+    RAYCAST_DCHECK(lane < k);
+    const unsigned char* bytes = group->bytes;
+    auto vertex = [&](uint32_t corner) {
+        const uint32_t j = bytes[group_layout::group_corners_offset() + corner * k + lane];
+        Vec3f p;
+        std::memcpy(&p.x, bytes + group_layout::group_vertices_offset(k) + 4 * j, 4);
+        std::memcpy(&p.y, bytes + group_layout::group_vertices_offset(k) + 4 * (v + j), 4);
+        std::memcpy(&p.z, bytes + group_layout::group_vertices_offset(k) + 4 * (2 * v + j), 4);
+        return p;
+    };
+    GroupTriangle triangle;
+    triangle.p0 = vertex(0);
+    triangle.p1 = vertex(1);
+    triangle.p2 = vertex(2);
+    std::memcpy(&triangle.id, bytes + group_layout::group_ids_offset(k, v) + 4 * lane, 4);
+    return triangle;
+}
 
 /// The lane of the triangle with this id, or group_triangle_count if the group does not hold it.
 uint32_t group_lane_of(const GroupBlock* group, uint32_t id);
