@@ -40,3 +40,13 @@ inline VF vcopysign(VF magnitude, VF sign) {
     const __m128 sign_bit = _mm_set1_ps(-0.0f);
     return {_mm_or_ps(_mm_andnot_ps(sign_bit, magnitude.v), _mm_and_ps(sign_bit, sign.v))};
 }
+
+// (a[i] / b[i]) for i < 3, as one SSE division: three scalar ones in a row would add their
+// latencies to the time before a ray's first test (the single-ray kernel's set-up; its SSE2
+// and AVX2 wrappers both take it from here).
+inline void divide3(const float* a, const float* b, float* q) {
+    const __m128 r = _mm_div_ps(_mm_setr_ps(a[0], a[1], a[2], 1.0f), _mm_setr_ps(b[0], b[1], b[2], 1.0f));
+    q[0] = _mm_cvtss_f32(r);
+    q[1] = _mm_cvtss_f32(_mm_shuffle_ps(r, r, 1));
+    q[2] = _mm_cvtss_f32(_mm_shuffle_ps(r, r, 2));
+}

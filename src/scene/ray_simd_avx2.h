@@ -10,14 +10,7 @@ struct I8 {
 inline F8 load8(const float* p) { return load(p); }
 inline F8 splat8(float x) { return splat(x); }
 
-// (a[i] / b[i]) for i < 3, as one SSE division: three scalar ones in a row would add their
-// latencies to the time before a ray's first test.
-inline void divide3(const float* a, const float* b, float* q) {
-    const __m128 r = _mm_div_ps(_mm_setr_ps(a[0], a[1], a[2], 1.0f), _mm_setr_ps(b[0], b[1], b[2], 1.0f));
-    q[0] = _mm_cvtss_f32(r);
-    q[1] = _mm_cvtss_f32(_mm_shuffle_ps(r, r, 1));
-    q[2] = _mm_cvtss_f32(_mm_shuffle_ps(r, r, 2));
-}
+using sse::divide3;  // the SSE wrapper's (packet_simd_sse2.h)
 // Lanes [0, n) true (n <= 8): eight of sixteen words, eight true then eight false.
 alignas(64) constexpr int32_t kFirstLanesWindow[16] = {-1, -1, -1, -1, -1, -1, -1, -1, 0, 0, 0, 0, 0, 0, 0, 0};
 inline M8 first_lanes(uint32_t n) { return {_mm256_loadu_ps(reinterpret_cast<const float*>(kFirstLanesWindow + 8 - n))}; }

@@ -14,14 +14,7 @@ struct I8 {
 inline F8 load8(const float* p) { return {_mm_loadu_ps(p), _mm_loadu_ps(p + 4)}; }
 inline F8 splat8(float x) { return {_mm_set1_ps(x), _mm_set1_ps(x)}; }
 
-// (a[i] / b[i]) for i < 3, as one SSE division: three scalar ones in a row would add their
-// latencies to the time before a ray's first test.
-inline void divide3(const float* a, const float* b, float* q) {
-    const __m128 r = _mm_div_ps(_mm_setr_ps(a[0], a[1], a[2], 1.0f), _mm_setr_ps(b[0], b[1], b[2], 1.0f));
-    q[0] = _mm_cvtss_f32(r);
-    q[1] = _mm_cvtss_f32(_mm_shuffle_ps(r, r, 1));
-    q[2] = _mm_cvtss_f32(_mm_shuffle_ps(r, r, 2));
-}
+// divide3: the SSE wrapper's (packet_simd_sse2.h).
 #define RAYCAST_F8_OP(op, fn) \
     inline F8 operator op(F8 a, F8 b) { return {fn(a.lo, b.lo), fn(a.hi, b.hi)}; }
 RAYCAST_F8_OP(+, _mm_add_ps)
