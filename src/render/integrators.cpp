@@ -79,6 +79,13 @@ ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit, c
     return frame;
 }
 
+// MIT's rule without -shade_back: a hit on a back face is black and unlit (no shadow rays, no
+// secondary rays). The Whitted function, the shadows traced ahead and the render loop's shortcut
+// all ask it.
+bool blackens_back_faces(const Conventions& conventions) {
+    return conventions.black_back_faces && !conventions.shade_back_faces;
+}
+
 // Whether shading needs a shadow ray towards a light: a shadow ray can only take the light's
 // share away, so where the share is nothing (the surface faces away from the light and shows no
 // highlight of it) none is traced. Local shading and the packets traced ahead of it ask this alike.
@@ -193,7 +200,7 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
         record->shading_normal = frame.normal;
         record->back_face = frame.back_face;
     }
-    if (frame.back_face && !scene.conventions.shade_back_faces && scene.conventions.black_back_faces) {
+    if (frame.back_face && blackens_back_faces(scene.conventions)) {
         if (record) record->note = "back face: black without shade_back (MIT's rule)";
         return finish(context, {0, 0, 0});
     }
@@ -511,7 +518,7 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
     // are shadow rays, and with opaque shadows those of a camera hit were traced ahead (shadows).
     const bool shadow_rays = integrator.options.shadows;
     const bool local = integrator.radiance == &whitted_radiance &&
-                       !(scene.conventions.black_back_faces && !scene.conventions.shade_back_faces) &&
+                       !blackens_back_faces(scene.conventions) &&
                        (!shadow_rays || (shadows && scene.lights.size() <= 64));
     for (int k = 0; k < count; ++k) {
         shaded[k] = false;
@@ -603,7 +610,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         ShadingFrame& frame = frames[hit_count];
         frame = shading_frame(scene, rays[k], hits[k]);
         lane_of[hit_count++] = k;
-        if (frame.back_face && !scene.conventions.shade_back_faces && scene.conventions.black_back_faces)
+        if (frame.back_face && blackens_back_faces(scene.conventions))
             offsets[hit_count - 1] = -1;  // black, unlit: no shadow rays
         else
             offsets[hit_count - 1] = ray_offset_distance(frame.surface.position, frame.travel_scale);

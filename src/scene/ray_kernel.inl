@@ -102,8 +102,7 @@ inline unsigned hit_children(const WideBvhNode& node, const BoxTraversal& r, con
 // changes, sorting cost more (its branches mispredict) than finding a blocker sooner saved.
 template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename CullFn, typename LeafFn>
 [[gnu::always_inline]] inline bool traverse_wide(const WideBvhNode* nodes, const Ray& ray, float t_min, CullFn&& t_cull,
-                                                LeafFn&& visit_leaf,
-                          uint64_t* nodes_visited) {
+                                                LeafFn&& visit_leaf, uint64_t* nodes_visited) {
     const BoxTraversal r = make_box_traversal<kWidenInverse>(ray, t_min);
     struct Pending {
         uint32_t ref;
