@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -127,6 +128,62 @@ TEST(ExplainTest, EveryPixelsExplanationHasTheRenderedColourAndBytes) {
                 }
             }
         EXPECT_EQ(mismatches, 0);
+    }
+}
+
+// The same bits, not only the same bytes: the render loop shades a packet's hits that need local
+// shading only an operation at a time over all of them (SIMD), which must give each pixel's colour
+// exactly as the radiance function's scalar code does, for every specular model, with back faces
+// turned towards the viewer, with and without shadow rays, under an attenuated point light.
+TEST(ExplainTest, ThePacketsLocalShadingIsTheRadianceFunctionsBitForBit) {
+    const std::string dir = scene_dir("local_bits");
+    // The scene above with ambient light, a triangle wound clockwise, seen from behind, and a ball.
+    std::string text = kScene;
+    const auto replace = [&](const std::string& from, const std::string& to) {
+        ASSERT_NE(text.find(from), std::string::npos) << from;
+        text.replace(text.find(from), from.size(), to);
+    };
+    replace("Background { color 0.2 0.3 0.5 }", "Background { color 0.2 0.3 0.5 ambientLight 0.1 0.15 0.2 }");
+    replace("numObjects 5", "numObjects 7");
+    replace("    Triangle {", "    Triangle { vertex0 2 1 -2 vertex1 3 3 -2 vertex2 3.5 1 -2 }\n    Triangle {");
+    // A dull ball (neither a mirror nor glass) whose lower half faces away from both lights.
+    replace("    MaterialIndex 2\n", "    MaterialIndex 3\n    Sphere { center 0 -0.5 2 radius 0.5 }\n    MaterialIndex 2\n");
+    write_file(dir + "/s.txt", text);
+    for (const SpecularModel model :
+         {SpecularModel::Phong, SpecularModel::BlinnClampedByNdotL, SpecularModel::BlinnTimesNdotL}) {
+        for (const bool shade_back : {false, true}) {
+            SceneLoadOptions load;
+            SceneBuildOptions build;
+            build.conventions.specular = model;
+            build.conventions.shade_back_faces = shade_back;
+            build.width = build.height = 24;
+            Scene scene = build_scene(load_scene_file(dir + "/s.txt", load), build);
+            ASSERT_EQ(scene.lights[0].kind, Light::Kind::Point);
+            scene.lights[0].attenuation = Vec3f{1, 0.05f, 0.01f};
+            for (const bool shadows : {false, true}) {
+                SCOPED_TRACE(testing::Message() << "model " << static_cast<int>(model) << " shade_back "
+                                                << shade_back << " shadows " << shadows);
+                RenderOptions options;
+                options.shadows = shadows;
+                options.threads = 2;
+                const Image image = render_image(scene, options);
+                int mismatches = 0, lit = 0, back = 0;
+                for (int y = 0; y < image.height; ++y)
+                    for (int x = 0; x < image.width; ++x) {
+                        const Vec3f expected = explain_pixel(scene, options, x, image.height - 1 - y).color;
+                        const Vec3f got = image.at(x, y);
+                        if (std::memcmp(&expected, &got, sizeof got) != 0) ++mismatches;
+                        if (got != scene.background) ++lit;
+                        const Ray ray = camera_ray(scene.camera, static_cast<float>(x), static_cast<float>(y));
+                        Hit hit;
+                        intersect(scene, ray, scene.camera.t_min, hit);
+                        if (hit.is_hit() && dot(surface_at(scene, ray, hit).normal, ray.direction) > 0) ++back;
+                    }
+                EXPECT_EQ(mismatches, 0);
+                EXPECT_GT(back, 4);  // the clockwise triangle is seen from behind
+                EXPECT_GT(lit, image.width * image.height / 2);  // mostly surfaces, not background
+            }
+        }
     }
 }
 

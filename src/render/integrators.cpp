@@ -2,6 +2,7 @@
 // the Shaded mode, and the debugging views.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "render/integrator.h"
 #include "render/shade.h"
@@ -89,12 +90,16 @@ bool blackens_back_faces(const Conventions& conventions) {
 // Whether shading needs a shadow ray towards a light: a shadow ray can only take the light's
 // share away, so where the share is nothing (the surface faces away from the light and shows no
 // highlight of it) none is traced. Local shading and the packets traced ahead of it ask this alike.
-bool needs_shadow_ray(const Scene& scene, const Material& material, const ShadingFrame& frame,
+bool needs_shadow_ray(const Scene& scene, const Material& material, Vec3f normal, Vec3f to_viewer,
                       const Illumination& arriving) {
     const Vec3f c = arriving.color;
     const bool finite = std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z);  // inf·0 is NaN
-    return !(finite && reflects_no_light(material, scene.conventions.specular, frame.normal, arriving.to_light,
-                                         frame.to_viewer));
+    return !(finite && reflects_no_light(material, scene.conventions.specular, normal, arriving.to_light, to_viewer));
+}
+
+bool needs_shadow_ray(const Scene& scene, const Material& material, const ShadingFrame& frame,
+                      const Illumination& arriving) {
+    return needs_shadow_ray(scene, material, frame.normal, frame.to_viewer, arriving);
 }
 
 // Light `light`'s transmittance from a camera hit whose shadow ray the render loop traced ahead
@@ -110,25 +115,18 @@ bool prepared_transmittance(TraceContext& context, size_t light, Vec3f& transmit
     return true;
 }
 
-// Ambient plus the diffuse and specular share of every light that reaches the point, where
-// reaches(i, arriving) says whether light i does, all or nothing: local_shading below when no
-// shadow ray is traced here and nothing is recorded (the same operations in the same order), and
-// the whole of shade_camera_hits_locally's shading.
-template <typename ReachesFn>
-Vec3f sum_local_shading(const Scene& scene, const Material& material, const ShadingFrame& frame, ReachesFn&& reaches) {
+// Ambient plus the diffuse and specular share of every light, with no shadow rays: local_shading
+// below when it traces and records nothing (the same operations in the same order).
+// shade_camera_hits_locally does the same for a packet's hits, an operation at a time.
+Vec3f unshadowed_local_shading(const Scene& scene, const Material& material, const ShadingFrame& frame) {
     Vec3f color = scene.ambient * material.diffuse;
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Illumination arriving = illuminate(scene.lights[i], frame.surface.position);
-        if (!reaches(i, arriving)) continue;
+    for (const Light& light : scene.lights) {
+        const Illumination arriving = illuminate(light, frame.surface.position);
         const LightReflection terms =
             reflect_light_terms(material, scene.conventions.specular, frame.normal, arriving.to_light, frame.to_viewer);
         color += arriving.color * (terms.diffuse + terms.specular);
     }
     return color;
-}
-
-Vec3f unshadowed_local_shading(const Scene& scene, const Material& material, const ShadingFrame& frame) {
-    return sum_local_shading(scene, material, frame, [](size_t, const Illumination&) { return true; });
 }
 
 // Ambient plus every light, each gated by its shadow ray when shadows are on: the course's
@@ -510,6 +508,156 @@ Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray
     return integrator.radiance(integrator, ray, hit, context);
 }
 
+namespace {
+
+// A packet's hits in shade_camera_hits_locally, one array per component (structure of arrays):
+// each step of shading is then one loop over the hits, which the compiler makes SIMD
+// instructions of, 4 hits an instruction, each lane doing the scalar functions' operations in
+// their order (the same bits: -ffp-contract=off, and no operation that SIMD rounds otherwise).
+struct LaneVectors {
+    float x[kMaxPacketLanes], y[kMaxPacketLanes], z[kMaxPacketLanes];
+
+    Vec3f at(int j) const { return {x[j], y[j], z[j]}; }
+    void set(int j, Vec3f v) {
+        x[j] = v.x;
+        y[j] = v.y;
+        z[j] = v.z;
+    }
+};
+
+struct HitLanes {
+    int count = 0;
+    int lane[kMaxPacketLanes];  // the hit's place in the packet
+    const Material* material[kMaxPacketLanes];
+    LaneVectors position, normal, to_viewer, diffuse, specular, color;
+    float shininess[kMaxPacketLanes];
+};
+
+// normalize(a) for every lane: a / |a|, a zero vector staying zero. Dividing by 1 leaves a
+// component exactly as it is, and a division made on no condition is one the compiler
+// vectorises (a conditional one might trap where the scalar code would not divide).
+void normalize_lanes(LaneVectors& a, float* length, int count) {
+    for (int j = 0; j < count; ++j) length[j] = std::sqrt(a.x[j] * a.x[j] + a.y[j] * a.y[j] + a.z[j] * a.z[j]);
+    for (int j = 0; j < count; ++j) {
+        const float divisor = length[j] > 0 ? length[j] : 1.0f;
+        a.x[j] = a.x[j] / divisor;
+        a.y[j] = a.y[j] / divisor;
+        a.z[j] = a.z[j] / divisor;
+    }
+}
+
+// What illuminate() finds for every lane's point: the unit direction to the light, the colour
+// arriving and (for a point light) the distance.
+void illuminate_lanes(const Light& light, const HitLanes& hits, LaneVectors& to_light, LaneVectors& arriving,
+                      float* distance) {
+    const int n = hits.count;
+    if (light.kind == Light::Kind::Directional) {
+        for (int j = 0; j < n; ++j) {
+            to_light.set(j, -light.direction);
+            arriving.set(j, light.color);
+            distance[j] = std::numeric_limits<float>::infinity();
+        }
+        return;
+    }
+    const Vec3f& a = light.attenuation;
+    for (int j = 0; j < n; ++j) {
+        to_light.x[j] = light.position.x - hits.position.x[j];
+        to_light.y[j] = light.position.y - hits.position.y[j];
+        to_light.z[j] = light.position.z - hits.position.z[j];
+    }
+    normalize_lanes(to_light, distance, n);
+    float falloff[kMaxPacketLanes];
+    for (int j = 0; j < n; ++j) {
+        const float d = distance[j];
+        const float f = a.x + a.y * d + a.z * d * d;
+        falloff[j] = f > 0 ? f : 1.0f;  // a colour divided by 1 is the colour itself
+    }
+    for (int j = 0; j < n; ++j) {
+        arriving.x[j] = light.color.x / falloff[j];
+        arriving.y[j] = light.color.y / falloff[j];
+        arriving.z[j] = light.color.z / falloff[j];
+    }
+}
+
+// The base of reflect_light_terms' specular power for every lane (before the power), and N·L.
+void specular_bases(SpecularModel model, const HitLanes& hits, const LaneVectors& to_light, float* n_dot_l,
+                    float* base) {
+    using shade_detail::positive_part;
+    const int n = hits.count;
+    const LaneVectors& normal = hits.normal;
+    const LaneVectors& to_viewer = hits.to_viewer;
+    for (int j = 0; j < n; ++j)
+        n_dot_l[j] = normal.x[j] * to_light.x[j] + normal.y[j] * to_light.y[j] + normal.z[j] * to_light.z[j];
+    if (model == SpecularModel::Phong) {
+        for (int j = 0; j < n; ++j) {  // R = 2(L·N)N − L, base max(0, V·R)
+            const float twice = 2 * n_dot_l[j];
+            const float rx = twice * normal.x[j] - to_light.x[j];
+            const float ry = twice * normal.y[j] - to_light.y[j];
+            const float rz = twice * normal.z[j] - to_light.z[j];
+            base[j] = positive_part(to_viewer.x[j] * rx + to_viewer.y[j] * ry + to_viewer.z[j] * rz);
+        }
+        return;
+    }
+    LaneVectors half;  // Blinn: H = normalize(L + V), base max(0, N·H)
+    float length[kMaxPacketLanes];
+    for (int j = 0; j < n; ++j) {
+        half.x[j] = to_light.x[j] + to_viewer.x[j];
+        half.y[j] = to_light.y[j] + to_viewer.y[j];
+        half.z[j] = to_light.z[j] + to_viewer.z[j];
+    }
+    normalize_lanes(half, length, n);
+    for (int j = 0; j < n; ++j)
+        base[j] = positive_part(normal.x[j] * half.x[j] + normal.y[j] * half.y[j] + normal.z[j] * half.z[j]);
+}
+
+// Adds a light's share to every lane (where lit[j], when `lit` is given): reflect_light_terms'
+// diffuse and specular terms (the power found per lane in `power`) times the arriving colour, as
+// local shading adds it.
+void add_light_lanes(SpecularModel model, HitLanes& hits, const LaneVectors& arriving, const float* n_dot_l,
+                     const float* power, const bool* lit) {
+    using shade_detail::positive_part;
+    const int n = hits.count;
+    float cosine[kMaxPacketLanes], specular[kMaxPacketLanes];
+    for (int j = 0; j < n; ++j) cosine[j] = positive_part(n_dot_l[j]);
+    switch (model) {
+        case SpecularModel::Phong:
+            for (int j = 0; j < n; ++j) specular[j] = power[j];
+            break;
+        case SpecularModel::BlinnClampedByNdotL:
+            for (int j = 0; j < n; ++j) {
+                const float lit_power = power[j];  // read on every path, for the select to vectorise
+                specular[j] = n_dot_l[j] > 0 ? lit_power : 0.0f;
+            }
+            break;
+        case SpecularModel::BlinnTimesNdotL:
+            for (int j = 0; j < n; ++j) specular[j] = power[j] * cosine[j];
+            break;
+    }
+    LaneVectors contribution;
+    for (int j = 0; j < n; ++j) {
+        const float r = arriving.x[j] * (hits.diffuse.x[j] * cosine[j] + hits.specular.x[j] * specular[j]);
+        const float g = arriving.y[j] * (hits.diffuse.y[j] * cosine[j] + hits.specular.y[j] * specular[j]);
+        const float b = arriving.z[j] * (hits.diffuse.z[j] * cosine[j] + hits.specular.z[j] * specular[j]);
+        contribution.set(j, {r, g, b});
+    }
+    // Only an addition made on no condition vectorises (GCC moves the addition under the
+    // condition, and there it might trap where the scalar code would not add), so the lanes of
+    // a light some shadow ray blocked are added one by one.
+    LaneVectors& color = hits.color;
+    if (!lit) {
+        for (int j = 0; j < n; ++j) {
+            color.x[j] = color.x[j] + contribution.x[j];
+            color.y[j] = color.y[j] + contribution.y[j];
+            color.z[j] = color.z[j] + contribution.z[j];
+        }
+        return;
+    }
+    for (int j = 0; j < n; ++j)
+        if (lit[j]) color.set(j, color.at(j) + contribution.at(j));
+}
+
+}  // namespace
+
 void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, const Hit* hits, int count,
                                const CameraShadows* shadows, RayCounts& counts, Vec3f* colors, bool* shaded) {
     const Scene& scene = integrator.scene;
@@ -517,9 +665,9 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
     // black back faces are off and the surface neither reflects nor transmits; then its only rays
     // are shadow rays, and with opaque shadows those of a camera hit were traced ahead (shadows).
     const bool shadow_rays = integrator.options.shadows;
-    const bool local = integrator.radiance == &whitted_radiance &&
-                       !blackens_back_faces(scene.conventions) &&
+    const bool local = integrator.radiance == &whitted_radiance && !blackens_back_faces(scene.conventions) &&
                        (!shadow_rays || (shadows && scene.lights.size() <= 64));
+    HitLanes lanes;
     for (int k = 0; k < count; ++k) {
         shaded[k] = false;
         if (!local) continue;
@@ -530,23 +678,71 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
         }
         const Material& material = scene.materials[scene.instances[hits[k].object].material];
         if (material.reflective != Vec3f{0, 0, 0} || material.transparent != Vec3f{0, 0, 0}) continue;
-        if (!shadow_rays) {
-            colors[k] = unshadowed_local_shading(scene, material, shading_frame(scene, rays[k], hits[k]));
-        } else {
+        // The hit's surface point, as shading_frame finds it, into lane j.
+        RAYCAST_DCHECK(!shadow_rays || shadows[k].surface_found);
+        const SurfacePoint surface = shadow_rays ? shadows[k].surface : surface_at(scene, rays[k], hits[k]);
+        const int j = lanes.count++;
+        lanes.lane[j] = k;
+        lanes.material[j] = &material;
+        lanes.position.set(j, surface.position);
+        lanes.normal.set(j, surface.normal);
+        lanes.to_viewer.set(j, -rays[k].direction);
+        lanes.diffuse.set(j, material.diffuse);
+        lanes.specular.set(j, material.specular);
+        lanes.shininess[j] = material.shininess;
+    }
+    const int n = lanes.count;
+    if (n == 0) return;
+    // shading_frame: the unit vector to the viewer, the normal turned towards it on back faces
+    // with shade_back; then the ambient term.
+    float length[kMaxPacketLanes];
+    normalize_lanes(lanes.to_viewer, length, n);
+    const bool shade_back = scene.conventions.shade_back_faces;
+    const Vec3f ambient = scene.ambient;
+    LaneVectors& normal = lanes.normal;
+    if (shade_back)
+        for (int j = 0; j < n; ++j) {
+            const float facing = normal.x[j] * lanes.to_viewer.x[j] + normal.y[j] * lanes.to_viewer.y[j] +
+                                 normal.z[j] * lanes.to_viewer.z[j];
+            const float sign = facing < 0 ? -1.0f : 1.0f;  // −v is v times −1, bit for bit
+            normal.x[j] = normal.x[j] * sign;
+            normal.y[j] = normal.y[j] * sign;
+            normal.z[j] = normal.z[j] * sign;
+        }
+    for (int j = 0; j < n; ++j) {
+        lanes.color.x[j] = ambient.x * lanes.diffuse.x[j];
+        lanes.color.y[j] = ambient.y * lanes.diffuse.y[j];
+        lanes.color.z[j] = ambient.z * lanes.diffuse.z[j];
+    }
+    const SpecularModel model = scene.conventions.specular;
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        LaneVectors to_light, arriving;
+        float distance[kMaxPacketLanes], n_dot_l[kMaxPacketLanes], base[kMaxPacketLanes], power[kMaxPacketLanes];
+        bool lit[kMaxPacketLanes];
+        illuminate_lanes(scene.lights[i], lanes, to_light, arriving, distance);
+        specular_bases(model, lanes, to_light, n_dot_l, base);
+        bool all_lit = true;
+        for (int j = 0; j < n; ++j) {
             // A light's share counts where its shadow ray (traced ahead, counted here as
             // local_shading counts it) was not blocked, or where none was needed. The sample's
             // ray budget is left alone: 64 rays cannot spend it, and no later ray would use it.
-            const CameraShadows& answers = shadows[k];
-            RAYCAST_DCHECK(answers.surface_found);
-            const ShadingFrame frame = shading_frame(scene, rays[k], hits[k], &answers.surface);
-            colors[k] = sum_local_shading(scene, material, frame, [&](size_t i, const Illumination& arriving) {
-                if (!needs_shadow_ray(scene, material, frame, arriving)) return true;
+            lit[j] = true;
+            if (shadow_rays && needs_shadow_ray(scene, *lanes.material[j], lanes.normal.at(j), lanes.to_viewer.at(j),
+                                                {to_light.at(j), arriving.at(j), distance[j]})) {
+                const CameraShadows& answers = shadows[lanes.lane[j]];
                 RAYCAST_DCHECK((answers.known >> i) & 1);
                 ++counts.shadow;
-                return ((answers.blocked >> i) & 1) == 0;
-            });
+                lit[j] = ((answers.blocked >> i) & 1) == 0;
+                all_lit = all_lit && lit[j];
+            }
+            // powf stays a call per lane: a vector power would round otherwise.
+            power[j] = lit[j] ? shade_detail::specular_power(base[j], lanes.shininess[j]) : 0.0f;
         }
-        shaded[k] = true;
+        add_light_lanes(model, lanes, arriving, n_dot_l, power, all_lit ? nullptr : lit);
+    }
+    for (int j = 0; j < n; ++j) {
+        colors[lanes.lane[j]] = lanes.color.at(j);
+        shaded[lanes.lane[j]] = true;
     }
 }
 

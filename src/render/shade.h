@@ -41,7 +41,8 @@ inline float specular_power(float base, float exponent) {
 /// The reflection model for one light: colour leaving the surface towards `to_viewer` lit from
 /// `to_light` (all unit vectors), split into its two terms. Inline, as are the other per-hit
 /// helpers here: shading calls it for every light at every hit, and a call returns its two
-/// colours through memory.
+/// colours through memory. shade_camera_hits_locally (integrators.cpp) does these operations
+/// a step at a time for a packet's hits: a change here is a change there (ExplainTest checks).
 inline LightReflection reflect_light_terms(const Material& material, SpecularModel model, Vec3f normal,
                                            Vec3f to_light, Vec3f to_viewer) {
     using shade_detail::positive_part;

@@ -23,6 +23,8 @@ struct Illumination {
     float distance;  ///< to the light; infinity for directional lights
 };
 
+/// What arrives at `point` from the light. shade_camera_hits_locally (render/integrators.cpp)
+/// does the same operations for a packet's points at once: a change here is a change there.
 inline Illumination illuminate(const Light& light, Vec3f point) {
     if (light.kind == Light::Kind::Directional)
         return {-light.direction, light.color, std::numeric_limits<float>::infinity()};
