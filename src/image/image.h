@@ -52,6 +52,11 @@ inline void to_bytes(Vec3f color, uint8_t* rgb) {
     rgb[2] = to_byte(color.z);
 }
 
+/// to_bytes for `count` pixels in a row, byte for byte the same, in SIMD: the clamp and the
+/// conversion are two loops the compiler vectorises (in one, it would convert only where the
+/// clamp left a value inside (0, 1), a conversion it cannot make SIMD since it might trap).
+void to_bytes(const Vec3f* colors, size_t count, uint8_t* rgb);
+
 /// Converts every pixel with to_byte.
 ImageRgb8 quantize(const Image& image);
 

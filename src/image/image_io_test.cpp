@@ -7,7 +7,9 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -235,6 +237,31 @@ TEST(ToByte, ClampsThenTruncates) {
     EXPECT_EQ(rgb[0], 127);
     EXPECT_EQ(rgb[1], 0);
     EXPECT_EQ(rgb[2], 255);
+}
+
+// The row conversion (SIMD) gives to_byte's byte for every float: the special values, then
+// about a million bit patterns spread over all of them (both signs, NaNs, infinities, denormals).
+TEST(ToByte, ARowConvertsEveryFloatAsToByteDoes) {
+    std::vector<float> values = {0.0f, -0.0f, 1e-45f, 1e-30f, 0.5f, 0.99999994f, 1.0f, 1.0000001f, 255.0f,
+                                 INFINITY, -INFINITY, NAN, -NAN, 3.0f / 255.0f, -1.0f};
+    for (uint64_t bits = 0; bits <= 0xffffffffu; bits += 4099) {
+        const uint32_t pattern = static_cast<uint32_t>(bits);
+        float value;
+        std::memcpy(&value, &pattern, sizeof value);
+        values.push_back(value);
+    }
+    while (values.size() % 3 != 0) values.push_back(0.25f);
+    std::vector<Vec3f> colors(values.size() / 3);
+    for (size_t i = 0; i < colors.size(); ++i) colors[i] = {values[3 * i], values[3 * i + 1], values[3 * i + 2]};
+    std::vector<uint8_t> rgb(values.size(), 77);
+    to_bytes(colors.data(), colors.size(), rgb.data());
+    int mismatches = 0;
+    for (size_t i = 0; i < values.size(); ++i)
+        if (rgb[i] != to_byte(values[i])) ++mismatches;
+    EXPECT_EQ(mismatches, 0);
+    std::fill(rgb.begin(), rgb.end(), 77);
+    to_bytes(colors.data(), 0, rgb.data());  // nothing to convert, nothing written
+    EXPECT_EQ(std::count(rgb.begin(), rgb.end(), 77), static_cast<std::ptrdiff_t>(rgb.size()));
 }
 
 TEST(ImageFormatForPath, KnownExtensionsInAnyCase) {

@@ -306,8 +306,8 @@ private:
                 continue;
             }
             if (!bytes) return;
-            uint8_t* byte = bytes->at(x_begin, y);
-            for (int x = x_begin; x < x_end; ++x, ++colors, byte += 3) to_bytes(*colors, byte);
+            to_bytes(colors, static_cast<size_t>(x_end - x_begin), bytes->at(x_begin, y));
+            colors += x_end - x_begin;
         }
     }
 
