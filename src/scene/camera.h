@@ -61,11 +61,14 @@ inline void camera_rays_at(const Camera& camera, const float* a, const float* b,
             z[i] = a[first + i] * h.z + b[first + i] * u.z + d.z;
         }
         for (int i = 0; i < n; ++i) length[i] = std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]);
-        for (int i = 0; i < n; ++i) {  // normalize(): a zero vector stays zero
-            const bool scale = length[i] > 0;
-            x[i] = scale ? x[i] / length[i] : x[i];
-            y[i] = scale ? y[i] / length[i] : y[i];
-            z[i] = scale ? z[i] / length[i] : z[i];
+        for (int i = 0; i < n; ++i) {
+            // normalize(): a zero vector stays zero. Dividing by 1 keeps it exactly as not
+            // dividing does, and a division on no condition is one the compiler vectorises (a
+            // conditional one might trap where the scalar code would not divide).
+            const float divisor = length[i] > 0 ? length[i] : 1.0f;
+            x[i] = x[i] / divisor;
+            y[i] = y[i] / divisor;
+            z[i] = z[i] / divisor;
         }
         for (int i = 0; i < n; ++i) rays[first + i] = {camera.center, {x[i], y[i], z[i]}};
     }

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 namespace raycast {
 namespace {
@@ -46,6 +47,26 @@ Camera small_camera(FovAxis axis = FovAxis::Vertical) {
     Conventions conventions;
     conventions.fov_axis = axis;
     return make_camera(perspective({1, 2, 3}, {0, 0, -2}, {0, 2, 2}, 90, 4, 2), 4, 2, conventions);
+}
+
+// camera_rays_at makes many rays at once in vectorised loops; each must be camera_ray_at's bit
+// for bit, for any count (a chunk of 16, a part of one, several), on a tilted camera.
+TEST(CameraTest, RaysMadeTogetherAreEachRayMadeAloneBitForBit) {
+    const Camera camera = make_camera(perspective({1, 2, 3}, {0.3f, -0.2f, -2}, {0.1f, 2, 2}, 50, 37, 23), 37, 23,
+                                      Conventions{});
+    float a[40], b[40];
+    for (int i = 0; i < 40; ++i) {
+        a[i] = camera_plane_x(camera, static_cast<float>(i) * 0.93f);
+        b[i] = camera_plane_y(camera, static_cast<float>(i % 23) + 0.25f);
+    }
+    for (const int count : {1, 7, 16, 17, 40}) {
+        Ray rays[40];
+        camera_rays_at(camera, a, b, count, rays);
+        for (int i = 0; i < count; ++i) {
+            const Ray alone = camera_ray_at(camera, a[i], b[i]);
+            EXPECT_EQ(std::memcmp(&rays[i], &alone, sizeof alone), 0) << "count " << count << " ray " << i;
+        }
+    }
 }
 
 TEST(CameraTest, BasisIsNormalizedAndUpIsRederivedFromATiltedUp) {
