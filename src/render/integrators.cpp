@@ -510,26 +510,16 @@ Vec3f radiance_along(const Scene& scene, const RenderOptions& options, const Ray
 
 namespace {
 
-// A packet's hits in shade_camera_hits_locally, one array per component (structure of arrays):
-// each step of shading is then one loop over the hits, which the compiler makes SIMD
-// instructions of, 4 hits an instruction, each lane doing the scalar functions' operations in
-// their order (the same bits: -ffp-contract=off, and no operation that SIMD rounds otherwise).
-struct LaneVectors {
-    float x[kMaxPacketLanes], y[kMaxPacketLanes], z[kMaxPacketLanes];
-
-    Vec3f at(int j) const { return {x[j], y[j], z[j]}; }
-    void set(int j, Vec3f v) {
-        x[j] = v.x;
-        y[j] = v.y;
-        z[j] = v.z;
-    }
-};
-
+// A packet's hits in shade_camera_hits_locally, one array per component (LaneVectors): each
+// step of shading is then one loop over the hits, which the compiler makes SIMD instructions of,
+// 4 hits an instruction, each lane doing the scalar functions' operations in their order (the
+// same bits: -ffp-contract=off, and no operation that SIMD rounds otherwise).
 struct HitLanes {
     int count = 0;
     int lane[kMaxPacketLanes];  // the hit's place in the packet
+    SurfaceLanes surface;       // the point and its normal, turned towards the viewer with shade_back
     const Material* material[kMaxPacketLanes];
-    LaneVectors position, normal, to_viewer, diffuse, specular, color;
+    LaneVectors to_viewer, diffuse, specular, color;
     float shininess[kMaxPacketLanes];
 };
 
@@ -561,9 +551,9 @@ void illuminate_lanes(const Light& light, const HitLanes& hits, LaneVectors& to_
     }
     const Vec3f& a = light.attenuation;
     for (int j = 0; j < n; ++j) {
-        to_light.x[j] = light.position.x - hits.position.x[j];
-        to_light.y[j] = light.position.y - hits.position.y[j];
-        to_light.z[j] = light.position.z - hits.position.z[j];
+        to_light.x[j] = light.position.x - hits.surface.position.x[j];
+        to_light.y[j] = light.position.y - hits.surface.position.y[j];
+        to_light.z[j] = light.position.z - hits.surface.position.z[j];
     }
     normalize_lanes(to_light, distance, n);
     float falloff[kMaxPacketLanes];
@@ -584,7 +574,7 @@ void specular_bases(SpecularModel model, const HitLanes& hits, const LaneVectors
                     float* base) {
     using shade_detail::positive_part;
     const int n = hits.count;
-    const LaneVectors& normal = hits.normal;
+    const LaneVectors& normal = hits.surface.normal;
     const LaneVectors& to_viewer = hits.to_viewer;
     for (int j = 0; j < n; ++j)
         n_dot_l[j] = normal.x[j] * to_light.x[j] + normal.y[j] * to_light.y[j] + normal.z[j] * to_light.z[j];
@@ -678,14 +668,9 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
         }
         const Material& material = scene.materials[scene.instances[hits[k].object].material];
         if (material.reflective != Vec3f{0, 0, 0} || material.transparent != Vec3f{0, 0, 0}) continue;
-        // The hit's surface point, as shading_frame finds it, into lane j.
-        RAYCAST_DCHECK(!shadow_rays || shadows[k].surface_found);
-        const SurfacePoint surface = shadow_rays ? shadows[k].surface : surface_at(scene, rays[k], hits[k]);
         const int j = lanes.count++;
         lanes.lane[j] = k;
         lanes.material[j] = &material;
-        lanes.position.set(j, surface.position);
-        lanes.normal.set(j, surface.normal);
         lanes.to_viewer.set(j, -rays[k].direction);
         lanes.diffuse.set(j, material.diffuse);
         lanes.specular.set(j, material.specular);
@@ -693,13 +678,24 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
     }
     const int n = lanes.count;
     if (n == 0) return;
+    // The hits' surface points, as shading_frame finds them: found with their shadow rays, or now.
+    if (shadow_rays) {
+        for (int j = 0; j < n; ++j) {
+            const CameraShadows& answers = shadows[lanes.lane[j]];
+            RAYCAST_DCHECK(answers.surface_found);
+            lanes.surface.position.set(j, answers.surface.position);
+            lanes.surface.normal.set(j, answers.surface.normal);
+        }
+    } else {
+        surface_points(scene, rays, hits, lanes.lane, n, lanes.surface);
+    }
     // shading_frame: the unit vector to the viewer, the normal turned towards it on back faces
     // with shade_back; then the ambient term.
     float length[kMaxPacketLanes];
     normalize_lanes(lanes.to_viewer, length, n);
     const bool shade_back = scene.conventions.shade_back_faces;
     const Vec3f ambient = scene.ambient;
-    LaneVectors& normal = lanes.normal;
+    LaneVectors& normal = lanes.surface.normal;
     if (shade_back)
         for (int j = 0; j < n; ++j) {
             const float facing = normal.x[j] * lanes.to_viewer.x[j] + normal.y[j] * lanes.to_viewer.y[j] +
@@ -727,7 +723,7 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
             // local_shading counts it) was not blocked, or where none was needed. The sample's
             // ray budget is left alone: 64 rays cannot spend it, and no later ray would use it.
             lit[j] = true;
-            if (shadow_rays && needs_shadow_ray(scene, *lanes.material[j], lanes.normal.at(j), lanes.to_viewer.at(j),
+            if (shadow_rays && needs_shadow_ray(scene, *lanes.material[j], normal.at(j), lanes.to_viewer.at(j),
                                                 {to_light.at(j), arriving.at(j), distance[j]})) {
                 const CameraShadows& answers = shadows[lanes.lane[j]];
                 RAYCAST_DCHECK((answers.known >> i) & 1);

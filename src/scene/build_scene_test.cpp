@@ -8,12 +8,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
 #include "base/error.h"
 #include "geometry/triangle.h"
+#include "scene/intersect_packet.h"
 #include "sceneio/load_scene.h"
 #include "scene_builders.h"
 
@@ -539,6 +542,64 @@ TEST(BuildSceneTest, MaterialsAndLightsAreCopiedWithDefaultsByConventions) {
     EXPECT_EQ(mit_scene.materials[0].shininess, 20);
     EXPECT_EQ(mit_scene.materials[1].shininess, 1);
     EXPECT_EQ(mit_scene.camera.pixel_offset, 0.5f);  // the conventions reach the camera
+}
+
+// surface_points finds many hits' points at once, in SIMD for triangles of flat meshes: each
+// must be surface_at's bit for bit, whatever the lanes' order, for a tilted mesh (no normal
+// component zero), the same mesh moved by a transform, a mesh with vertex normals, and the other
+// shapes, every one with its own material.
+TEST(BuildSceneTest, SurfacePointsOfManyHitsAreEachSurfaceAtBitForBit) {
+    TriangleMesh bumpy = grid_mesh(8);
+    for (size_t i = 0; i < bumpy.positions.size(); ++i)
+        bumpy.positions[i].z = 0.3f * std::sin(1.7f * static_cast<float>(i)) + 0.1f * bumpy.positions[i].x;
+    TriangleMesh smooth = grid_mesh(4);
+    for (Vec3f& p : smooth.positions) p.x -= 2.5f;  // moved without a transform
+    smooth.normals = {{0.1f, 0.2f, 1}, {-0.3f, 0, 1}, {0, 0.4f, 0.9f}};
+    for (size_t t = 0; t < smooth.indices.size() / 3; ++t)
+        smooth.normal_indices.insert(smooth.normal_indices.end(), {0, 1, 2});
+    SceneDesc desc = scene_with(group({mesh_object(0, 1),
+                                       transform(Mat4::translate({2.5f, 0, 0}) * Mat4::scale({1, 1.5f, 1}),
+                                                 mesh_object(0, 2)),
+                                       mesh_object(1, 3),
+                                       sphere({0, 2.5f, 0}, 0.8f, 4), triangle({-3, -3, 0}, {-1, -2, 0.5f}, {-2, -1.5f, 1}, 5),
+                                       plane({0, 0.1f, 1}, -2, 0)}),
+                                6);
+    desc.meshes.push_back({"bumpy.obj", bumpy});
+    desc.meshes.push_back({"smooth.obj", smooth});
+    const Scene scene = build_scene(std::move(desc), {});
+    std::vector<Ray> rays;
+    std::vector<Hit> hits;
+    for (int y = 0; y < 40; ++y)
+        for (int x = 0; x < 40; ++x) {
+            const Ray ray{{0.3f, -0.2f, 10}, normalize(Vec3f{(static_cast<float>(x) - 19.5f) * 0.011f,
+                                                             (static_cast<float>(y) - 19.5f) * 0.011f, -1})};
+            Hit hit;
+            intersect(scene, ray, 0, hit);
+            if (!hit.is_hit()) continue;
+            rays.push_back(ray);
+            hits.push_back(hit);
+        }
+    ASSERT_GT(hits.size(), 1000u);
+    std::vector<int> kinds(6, 0);
+    int mismatches = 0;
+    for (size_t first = 0; first < hits.size(); first += kMaxPacketLanes) {
+        const int count = static_cast<int>(std::min<size_t>(kMaxPacketLanes, hits.size() - first));
+        int lanes[kMaxPacketLanes];
+        for (int j = 0; j < count; ++j) lanes[j] = count - 1 - j;  // lane j is hit count − 1 − j
+        SurfaceLanes out;
+        surface_points(scene, &rays[first], &hits[first], lanes, count, out);
+        for (int j = 0; j < count; ++j) {
+            const size_t k = first + static_cast<size_t>(lanes[j]);
+            const SurfacePoint expected = surface_at(scene, rays[k], hits[k]);
+            const Vec3f position = out.position.at(j), normal = out.normal.at(j);
+            if (std::memcmp(&position, &expected.position, sizeof position) != 0 ||
+                std::memcmp(&normal, &expected.normal, sizeof normal) != 0 || out.material[j] != expected.material)
+                ++mismatches;
+            ++kinds[expected.material];
+        }
+    }
+    EXPECT_EQ(mismatches, 0);
+    for (int material = 0; material < 6; ++material) EXPECT_GT(kinds[static_cast<size_t>(material)], 10) << material;
 }
 
 }  // namespace

@@ -190,6 +190,70 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     return surface;
 }
 
+void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const int* lanes, int count,
+                    SurfaceLanes& out) {
+    RAYCAST_DCHECK(count <= kMaxPacketLanes);
+    // The corners of the lanes' mesh triangles; other lanes keep zeros and are found below.
+    LaneVectors p0, p1, p2;
+    int others[kMaxPacketLanes];
+    int other_count = 0;
+    for (int j = 0; j < count; ++j) {
+        const Hit& hit = hits[lanes[j]];
+        RAYCAST_DCHECK(hit.is_hit());
+        const Instance& inst = scene.instances[hit.object];
+        out.material[j] = inst.material;
+        const bool flat_mesh = inst.kind == ShapeKind::Mesh && inst.transform == kNoTransform &&
+                               !scene.meshes[inst.shape].mesh.has_normals();
+        if (!flat_mesh) {
+            p0.set(j, {});
+            p1.set(j, {});
+            p2.set(j, {});
+            others[other_count++] = j;
+            continue;
+        }
+        const MeshShape& shape = scene.meshes[inst.shape];
+        RAYCAST_DCHECK(hit.leaf < shape.groups.size());
+        const GroupBlock* group = &shape.groups[hit.leaf];
+        RAYCAST_DCHECK(hit.lane < group_triangle_count(group));
+        const GroupTriangle corners = group_triangle(group, hit.lane);
+        RAYCAST_DCHECK(corners.id == hit.prim);
+        p0.set(j, corners.p0);
+        p1.set(j, corners.p1);
+        p2.set(j, corners.p2);
+    }
+    // ray.at(t) and triangle_normal, operation for operation: normalize((p1 − p0) × (p2 − p0)).
+    LaneVectors& normal = out.normal;
+    for (int j = 0; j < count; ++j) {
+        const Ray& ray = rays[lanes[j]];
+        const float t = hits[lanes[j]].t;
+        out.position.x[j] = ray.origin.x + ray.direction.x * t;
+        out.position.y[j] = ray.origin.y + ray.direction.y * t;
+        out.position.z[j] = ray.origin.z + ray.direction.z * t;
+    }
+    for (int j = 0; j < count; ++j) {
+        const float ax = p1.x[j] - p0.x[j], ay = p1.y[j] - p0.y[j], az = p1.z[j] - p0.z[j];
+        const float bx = p2.x[j] - p0.x[j], by = p2.y[j] - p0.y[j], bz = p2.z[j] - p0.z[j];
+        normal.x[j] = ay * bz - az * by;
+        normal.y[j] = az * bx - ax * bz;
+        normal.z[j] = ax * by - ay * bx;
+    }
+    float length[kMaxPacketLanes];
+    for (int j = 0; j < count; ++j)
+        length[j] = std::sqrt(normal.x[j] * normal.x[j] + normal.y[j] * normal.y[j] + normal.z[j] * normal.z[j]);
+    for (int j = 0; j < count; ++j) {
+        // normalize's zero vector stays zero: dividing by 1 keeps it so, and a division made on
+        // no condition is one the compiler vectorises.
+        const float divisor = length[j] > 0 ? length[j] : 1.0f;
+        normal.x[j] = normal.x[j] / divisor;
+        normal.y[j] = normal.y[j] / divisor;
+        normal.z[j] = normal.z[j] / divisor;
+    }
+    for (int i = 0; i < other_count; ++i) {
+        const int j = others[i];
+        normal.set(j, surface_at(scene, rays[lanes[j]], hits[lanes[j]]).normal);
+    }
+}
+
 size_t Scene::triangle_count() const {
     size_t count = 0;
     for (const Instance& inst : instances) {

@@ -37,6 +37,32 @@ int packet_isa_lanes(PacketIsa isa);
 /// one; None gives the portable one). intersect() and occluded() use best_packet_isa()'s.
 const MeshRayKernel& mesh_ray_kernel(PacketIsa isa);
 
+/// Up to kMaxPacketLanes vectors, one array per component (structure of arrays): a loop over
+/// the lanes doing one vector operation is one the compiler makes SIMD instructions of.
+struct LaneVectors {
+    float x[kMaxPacketLanes], y[kMaxPacketLanes], z[kMaxPacketLanes];
+
+    Vec3f at(int j) const { return {x[j], y[j], z[j]}; }
+    void set(int j, Vec3f v) {
+        x[j] = v.x;
+        y[j] = v.y;
+        z[j] = v.z;
+    }
+};
+
+/// The parts of surface_at's SurfacePoint that shading needs, for several hits.
+struct SurfaceLanes {
+    LaneVectors position, normal;
+    uint32_t material[kMaxPacketLanes];
+};
+
+/// surface_at(scene, rays[k], hits[k]) for k = lanes[j], j < count (all hits), into lane j of
+/// `out`: the same bits. Triangles of meshes without vertex normals or transforms (most hits)
+/// get their corners one by one and their normal and position in SIMD; every other hit goes
+/// through surface_at.
+void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const int* lanes, int count,
+                    SurfaceLanes& out);
+
 /// Traces packets of rays through one scene with one instruction set.
 class PacketTracer {
 public:
