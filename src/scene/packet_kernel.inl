@@ -95,23 +95,15 @@ inline void prepare_inverses(PacketRays& r) {
 // Rays [0, count) as a packet (structure of arrays); dead lanes repeat lane 0 so that they hold no
 // garbage.
 inline PacketRays load_packet(const Ray* rays, int count) {
-    float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
-    for (int lane = 0; lane < kLanes; ++lane) {
-        const Ray& ray = rays[lane < count ? lane : 0];
-        ox[lane] = ray.origin.x;
-        oy[lane] = ray.origin.y;
-        oz[lane] = ray.origin.z;
-        dx[lane] = ray.direction.x;
-        dy[lane] = ray.direction.y;
-        dz[lane] = ray.direction.z;
-    }
+    static_assert(sizeof(Ray) == 6 * sizeof(float), "a ray is six floats");
+    const float* first = &rays[0].origin.x;
     PacketRays r;
-    r.ox = load(ox);
-    r.oy = load(oy);
-    r.oz = load(oz);
-    r.dx = load(dx);
-    r.dy = load(dy);
-    r.dz = load(dz);
+    r.ox = load_strided(first + 0, 6, count);
+    r.oy = load_strided(first + 1, 6, count);
+    r.oz = load_strided(first + 2, 6, count);
+    r.dx = load_strided(first + 3, 6, count);
+    r.dy = load_strided(first + 4, 6, count);
+    r.dz = load_strided(first + 5, 6, count);
     r.live = mask_from_bits((1u << count) - 1);
     prepare_inverses(r);
     return r;
@@ -608,9 +600,9 @@ inline TriangleLanes test_triangle_packet(const unsigned char* group, uint32_t l
 }
 
 inline void refresh_best(PacketState& s) {
-    float ts[kLanes];
-    for (int lane = 0; lane < kLanes; ++lane) ts[lane] = lane < s.count ? s.hits[lane].t : __builtin_inff();
-    s.best_t = load(ts);
+    static_assert(sizeof(Hit) % sizeof(float) == 0, "a hit is whole floats");
+    const VF t = load_strided(&s.hits[0].t, static_cast<int>(sizeof(Hit) / sizeof(float)), s.count);
+    s.best_t = select(mask_from_bits((1u << s.count) - 1), t, splat(__builtin_inff()));
 }
 
 // Hands the lanes to the scalar code, one ray at a time (exactly the single-ray path).

@@ -10,6 +10,14 @@ struct VM {
 inline VF splat(float x) { return {_mm512_set1_ps(x)}; }
 inline VF load(const float* p) { return {_mm512_loadu_ps(p)}; }
 inline void store(float* p, VF a) { _mm512_storeu_ps(p, a.v); }
+// Lane i < count takes first[i * stride], the others first[0] (a field of an array of structs:
+// read in place, for a store of the struct moments ago forwards to a load of the same size, and
+// not to a vector load of a copy written field by field).
+inline VF load_strided(const float* first, int stride, int count) {
+    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    const __mmask16 live = static_cast<__mmask16>((1u << count) - 1);
+    return {_mm512_i32gather_ps(_mm512_maskz_mullo_epi32(live, lane, _mm512_set1_epi32(stride)), first, 4)};
+}
 inline VF operator+(VF a, VF b) { return {_mm512_add_ps(a.v, b.v)}; }
 inline VF operator-(VF a, VF b) { return {_mm512_sub_ps(a.v, b.v)}; }
 inline VF operator*(VF a, VF b) { return {_mm512_mul_ps(a.v, b.v)}; }

@@ -78,6 +78,14 @@ using VF = LanesF<kLanes>;
 using VM = LanesM<kLanes>;
 inline VF splat(float x) { return {{x, x, x, x}}; }
 inline VF load(const float* p) { return {{p[0], p[1], p[2], p[3]}}; }
+// Lane i < count takes first[i * stride], the others first[0] (a field of an array of structs:
+// read in place, for a store of the struct moments ago forwards to a load of the same size, and
+// not to a vector load of a copy written field by field).
+inline VF load_strided(const float* first, int stride, int count) {
+    VF r;
+    for (int i = 0; i < kLanes; ++i) r.v[i] = first[i < count ? i * stride : 0];
+    return r;
+}
 inline VM mask_from_bits(unsigned b) { return {b & ((1u << kLanes) - 1)}; }
 inline unsigned sign_bits(VF a) {
     unsigned m = 0;

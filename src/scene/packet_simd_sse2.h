@@ -10,6 +10,13 @@ struct VM {
 inline VF splat(float x) { return {_mm_set1_ps(x)}; }
 inline VF load(const float* p) { return {_mm_loadu_ps(p)}; }
 inline void store(float* p, VF a) { _mm_storeu_ps(p, a.v); }
+// Lane i < count takes first[i * stride], the others first[0] (a field of an array of structs:
+// read in place, for a store of the struct moments ago forwards to a load of the same size, and
+// not to a vector load of a copy written field by field).
+inline VF load_strided(const float* first, int stride, int count) {
+    auto at = [&](int lane) { return first[lane < count ? lane * stride : 0]; };
+    return {_mm_setr_ps(at(0), at(1), at(2), at(3))};
+}
 inline VF operator+(VF a, VF b) { return {_mm_add_ps(a.v, b.v)}; }
 inline VF operator-(VF a, VF b) { return {_mm_sub_ps(a.v, b.v)}; }
 inline VF operator*(VF a, VF b) { return {_mm_mul_ps(a.v, b.v)}; }
