@@ -517,9 +517,15 @@ namespace {
 struct HitLanes {
     int count = 0;
     int lane[kMaxPacketLanes];  // the hit's place in the packet
-    SurfaceLanes surface;       // the point and its normal, turned towards the viewer with shade_back
+    // surface_at's point, its normal made the shading normal by shading_frames (turned towards
+    // the viewer on back faces with shade_back)
+    SurfaceLanes surface;
     const Material* material[kMaxPacketLanes];
-    LaneVectors to_viewer, diffuse, specular, color;
+    // The rest of the shading frame (ShadingFrame): the unit vector to the viewer, and whether the
+    // hit is on a back face.
+    LaneVectors to_viewer;
+    bool back_face[kMaxPacketLanes];
+    LaneVectors diffuse, specular, color;  // local shading's
     float shininess[kMaxPacketLanes];
 };
 
@@ -536,10 +542,34 @@ void normalize_lanes(LaneVectors& a, float* length, int count) {
     }
 }
 
+// shading_frame for every lane, from its surface point and its to_viewer (set to the ray's
+// reversed direction): to_viewer made unit, and the surface normal made the shading normal; with
+// either back-face rule, back_face (without, it is not set: nothing asks).
+[[gnu::always_inline]] inline void shading_frames(HitLanes& hits, const Conventions& conventions) {
+    const int n = hits.count;
+    float length[kMaxPacketLanes];
+    normalize_lanes(hits.to_viewer, length, n);
+    if (!conventions.shade_back_faces && !conventions.black_back_faces) return;
+    LaneVectors& normal = hits.surface.normal;
+    const LaneVectors& to_viewer = hits.to_viewer;
+    for (int j = 0; j < n; ++j)
+        hits.back_face[j] = normal.x[j] * to_viewer.x[j] + normal.y[j] * to_viewer.y[j] + normal.z[j] * to_viewer.z[j] < 0;
+    if (!conventions.shade_back_faces) return;
+    // −v is v times −1, bit for bit; a loop that multiplies on a condition would not vectorise.
+    for (int j = 0; j < n; ++j) {
+        const float sign = hits.back_face[j] ? -1.0f : 1.0f;
+        normal.x[j] = normal.x[j] * sign;
+        normal.y[j] = normal.y[j] * sign;
+        normal.z[j] = normal.z[j] * sign;
+    }
+}
+
 // What illuminate() finds for every lane's point: the unit direction to the light, the colour
 // arriving and (for a point light) the distance.
-void illuminate_lanes(const Light& light, const HitLanes& hits, LaneVectors& to_light, LaneVectors& arriving,
-                      float* distance) {
+// Forced inline: local shading and the shadows traced ahead both call it, and as a call it cost
+// primary rays 2-4%.
+[[gnu::always_inline]] inline void illuminate_lanes(const Light& light, const HitLanes& hits, LaneVectors& to_light,
+                                                    LaneVectors& arriving, float* distance) {
     const int n = hits.count;
     if (light.kind == Light::Kind::Directional) {
         for (int j = 0; j < n; ++j) {
@@ -689,22 +719,8 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
     } else {
         surface_points(scene, rays, hits, lanes.lane, n, lanes.surface);
     }
-    // shading_frame: the unit vector to the viewer, the normal turned towards it on back faces
-    // with shade_back; then the ambient term.
-    float length[kMaxPacketLanes];
-    normalize_lanes(lanes.to_viewer, length, n);
-    const bool shade_back = scene.conventions.shade_back_faces;
+    shading_frames(lanes, scene.conventions);
     const Vec3f ambient = scene.ambient;
-    LaneVectors& normal = lanes.surface.normal;
-    if (shade_back)
-        for (int j = 0; j < n; ++j) {
-            const float facing = normal.x[j] * lanes.to_viewer.x[j] + normal.y[j] * lanes.to_viewer.y[j] +
-                                 normal.z[j] * lanes.to_viewer.z[j];
-            const float sign = facing < 0 ? -1.0f : 1.0f;  // −v is v times −1, bit for bit
-            normal.x[j] = normal.x[j] * sign;
-            normal.y[j] = normal.y[j] * sign;
-            normal.z[j] = normal.z[j] * sign;
-        }
     for (int j = 0; j < n; ++j) {
         lanes.color.x[j] = ambient.x * lanes.diffuse.x[j];
         lanes.color.y[j] = ambient.y * lanes.diffuse.y[j];
@@ -723,7 +739,7 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
             // local_shading counts it) was not blocked, or where none was needed. The sample's
             // ray budget is left alone: 64 rays cannot spend it, and no later ray would use it.
             lit[j] = true;
-            if (shadow_rays && needs_shadow_ray(scene, *lanes.material[j], normal.at(j), lanes.to_viewer.at(j),
+            if (shadow_rays && needs_shadow_ray(scene, *lanes.material[j], lanes.surface.normal.at(j), lanes.to_viewer.at(j),
                                                 {to_light.at(j), arriving.at(j), distance[j]})) {
                 const CameraShadows& answers = shadows[lanes.lane[j]];
                 RAYCAST_DCHECK((answers.known >> i) & 1);
@@ -747,68 +763,68 @@ bool traces_camera_shadows(const Integrator& integrator) {
            !integrator.options.transparent_shadows && !integrator.scene.lights.empty();
 }
 
-namespace {
-
-// The shadow rays of trace_camera_shadows from the frames of its hits (offsets[h] < 0: none).
-void trace_frame_shadows(const Integrator& integrator, const PacketTracer& tracer, const ShadingFrame* frames,
-                         const float* offsets, const int* lane_of, int hit_count, CameraShadows* shadows) {
+void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
+                          int count, CameraShadows* shadows) {
     const Scene& scene = integrator.scene;
-    if (hit_count == 0) return;
+    // Each hit as local shading sees it (whitted_hit_radiance and local_shading above), found for
+    // the packet's hits together, a step at a time (HitLanes).
+    HitLanes lanes;
+    for (int k = 0; k < count; ++k) {
+        shadows[k] = CameraShadows{};
+        if (!hits[k].is_hit()) continue;
+        shadows[k].surface_found = true;
+        const int j = lanes.count++;
+        lanes.lane[j] = k;
+        lanes.to_viewer.set(j, -rays[k].direction);
+    }
+    const int n = lanes.count;
+    if (n == 0) return;
+    surface_points(scene, rays, hits, lanes.lane, n, lanes.surface);
+    const LaneVectors surface_normal = lanes.surface.normal;  // for shadows[k], as surface_at gives it
+    shading_frames(lanes, scene.conventions);
+    // Every shadow ray of a hit leaves its point by the same distance; a black back face is unlit
+    // and has none (offset < 0).
+    float offset[kMaxPacketLanes];
+    const bool black_back_faces = blackens_back_faces(scene.conventions);
+    for (int j = 0; j < n; ++j) {
+        const int k = lanes.lane[j];
+        lanes.material[j] = &scene.materials[lanes.surface.material[j]];
+        offset[j] = black_back_faces && lanes.back_face[j]
+                        ? -1.0f
+                        : ray_offset_distance(lanes.surface.position.at(j),
+                                              ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t));
+    }
     const size_t lights = std::min<size_t>(scene.lights.size(), 64);
     for (size_t i = 0; i < lights; ++i) {
+        LaneVectors to_light, arriving;
+        float distance[kMaxPacketLanes];
+        illuminate_lanes(scene.lights[i], lanes, to_light, arriving, distance);
         Ray shadow_rays[kMaxPacketLanes];
         float t_max[kMaxPacketLanes];
         bool blocked[kMaxPacketLanes];
         int traced_lane[kMaxPacketLanes];  // the hit of each ray
         int ray_count = 0;
-        for (int h = 0; h < hit_count; ++h) {
-            if (offsets[h] < 0) continue;
-            const SurfacePoint& surface = frames[h].surface;
-            const Illumination arriving = illuminate(scene.lights[i], surface.position);
-            if (!needs_shadow_ray(scene, scene.materials[surface.material], frames[h], arriving)) continue;
-            shadow_rays[ray_count] = {
-                offset_ray_origin_by(surface.position, surface.geometric_normal, arriving.to_light, offsets[h]),
-                arriving.to_light};
-            t_max[ray_count] = arriving.distance;
-            traced_lane[ray_count++] = h;
+        for (int j = 0; j < n; ++j) {
+            if (offset[j] < 0) continue;
+            const Illumination light{to_light.at(j), arriving.at(j), distance[j]};
+            if (!needs_shadow_ray(scene, *lanes.material[j], lanes.surface.normal.at(j), lanes.to_viewer.at(j), light))
+                continue;
+            shadow_rays[ray_count] = {offset_ray_origin_by(lanes.surface.position.at(j),
+                                                           lanes.surface.geometric_normal.at(j), light.to_light, offset[j]),
+                                      light.to_light};
+            t_max[ray_count] = light.distance;
+            traced_lane[ray_count++] = j;
         }
         if (ray_count == 0) continue;
         tracer.occluded(shadow_rays, ray_count, 0, t_max, blocked);
         for (int r = 0; r < ray_count; ++r) {
-            CameraShadows& answers = shadows[lane_of[traced_lane[r]]];
+            CameraShadows& answers = shadows[lanes.lane[traced_lane[r]]];
             answers.known |= uint64_t{1} << i;
             answers.blocked |= uint64_t{blocked[r]} << i;
         }
     }
-}
-
-}  // namespace
-
-void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
-                          int count, CameraShadows* shadows) {
-    const Scene& scene = integrator.scene;
-    // Each hit as local shading sees it (whitted_hit_radiance and local_shading above). The
-    // frames are made in place, and each surface point is copied to shadows[k] only at the
-    // end: a copy of a struct just written reads it back in wider pieces than were stored, which
-    // waits for the stores to reach the cache (the processor cannot forward them).
-    ShadingFrame frames[kMaxPacketLanes];
-    float offsets[kMaxPacketLanes];
-    int lane_of[kMaxPacketLanes];
-    int hit_count = 0;
-    for (int k = 0; k < count; ++k) {
-        shadows[k] = CameraShadows{};
-        if (!hits[k].is_hit()) continue;
-        shadows[k].surface_found = true;
-        ShadingFrame& frame = frames[hit_count];
-        frame = shading_frame(scene, rays[k], hits[k]);
-        lane_of[hit_count++] = k;
-        if (frame.back_face && blackens_back_faces(scene.conventions))
-            offsets[hit_count - 1] = -1;  // black, unlit: no shadow rays
-        else
-            offsets[hit_count - 1] = ray_offset_distance(frame.surface.position, frame.travel_scale);
-    }
-    trace_frame_shadows(integrator, tracer, frames, offsets, lane_of, hit_count, shadows);
-    for (int h = 0; h < hit_count; ++h) shadows[lane_of[h]].surface = frames[h].surface;
+    lanes.surface.normal = surface_normal;
+    for (int j = 0; j < n; ++j) shadows[lanes.lane[j]].surface = lanes.surface.at(j);
 }
 
 }  // namespace raycast

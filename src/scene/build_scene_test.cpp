@@ -591,9 +591,11 @@ TEST(BuildSceneTest, SurfacePointsOfManyHitsAreEachSurfaceAtBitForBit) {
         for (int j = 0; j < count; ++j) {
             const size_t k = first + static_cast<size_t>(lanes[j]);
             const SurfacePoint expected = surface_at(scene, rays[k], hits[k]);
-            const Vec3f position = out.position.at(j), normal = out.normal.at(j);
-            if (std::memcmp(&position, &expected.position, sizeof position) != 0 ||
-                std::memcmp(&normal, &expected.normal, sizeof normal) != 0 || out.material[j] != expected.material)
+            const SurfacePoint got = out.at(j);
+            if (std::memcmp(&got.position, &expected.position, sizeof got.position) != 0 ||
+                std::memcmp(&got.normal, &expected.normal, sizeof got.normal) != 0 ||
+                std::memcmp(&got.geometric_normal, &expected.geometric_normal, sizeof got.geometric_normal) != 0 ||
+                got.material != expected.material)
                 ++mismatches;
             ++kinds[expected.material];
         }

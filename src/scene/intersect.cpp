@@ -248,9 +248,12 @@ void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const 
         normal.y[j] = normal.y[j] / divisor;
         normal.z[j] = normal.z[j] / divisor;
     }
+    out.geometric_normal = normal;  // a flat triangle's, and overwritten for the others
     for (int i = 0; i < other_count; ++i) {
         const int j = others[i];
-        normal.set(j, surface_at(scene, rays[lanes[j]], hits[lanes[j]]).normal);
+        const SurfacePoint surface = surface_at(scene, rays[lanes[j]], hits[lanes[j]]);
+        normal.set(j, surface.normal);
+        out.geometric_normal.set(j, surface.geometric_normal);
     }
 }
 

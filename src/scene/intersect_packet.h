@@ -50,10 +50,12 @@ struct LaneVectors {
     }
 };
 
-/// The parts of surface_at's SurfacePoint that shading needs, for several hits.
+/// surface_at's SurfacePoint for several hits, a lane each.
 struct SurfaceLanes {
-    LaneVectors position, normal;
+    LaneVectors position, normal, geometric_normal;
     uint32_t material[kMaxPacketLanes];
+
+    SurfacePoint at(int j) const { return {position.at(j), normal.at(j), geometric_normal.at(j), material[j]}; }
 };
 
 /// surface_at(scene, rays[k], hits[k]) for k = lanes[j], j < count (all hits), into lane j of
