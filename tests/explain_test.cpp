@@ -134,7 +134,8 @@ TEST(ExplainTest, EveryPixelsExplanationHasTheRenderedColourAndBytes) {
 // The same bits, not only the same bytes: the render loop shades a packet's hits that need local
 // shading only an operation at a time over all of them (SIMD), which must give each pixel's colour
 // exactly as the radiance function's scalar code does, for every specular model, with back faces
-// turned towards the viewer, with and without shadow rays, under an attenuated point light.
+// turned towards the viewer, with and without shadow rays (the same ones), under an attenuated
+// point light.
 TEST(ExplainTest, ThePacketsLocalShadingIsTheRadianceFunctionsBitForBit) {
     const std::string dir = scene_dir("local_bits");
     // The scene above with ambient light, a triangle wound clockwise, seen from behind, and a ball.
@@ -166,11 +167,16 @@ TEST(ExplainTest, ThePacketsLocalShadingIsTheRadianceFunctionsBitForBit) {
                 RenderOptions options;
                 options.shadows = shadows;
                 options.threads = 2;
-                const Image image = render_image(scene, options);
+                RenderStats stats;
+                const Image image = render_image(scene, options, &stats);
                 int mismatches = 0, lit = 0, back = 0;
+                uint64_t explained_shadow_rays = 0;
                 for (int y = 0; y < image.height; ++y)
                     for (int x = 0; x < image.width; ++x) {
-                        const Vec3f expected = explain_pixel(scene, options, x, image.height - 1 - y).color;
+                        const PixelExplanation explanation = explain_pixel(scene, options, x, image.height - 1 - y);
+                        for (const RayRecord& ray : explanation.samples[0].rays)
+                            explained_shadow_rays += ray.kind == RayKind::Shadow ? 1 : 0;
+                        const Vec3f expected = explanation.color;
                         const Vec3f got = image.at(x, y);
                         if (std::memcmp(&expected, &got, sizeof got) != 0) ++mismatches;
                         if (got != scene.background) ++lit;
@@ -180,6 +186,11 @@ TEST(ExplainTest, ThePacketsLocalShadingIsTheRadianceFunctionsBitForBit) {
                         if (hit.is_hit() && dot(surface_at(scene, ray, hit).normal, ray.direction) > 0) ++back;
                     }
                 EXPECT_EQ(mismatches, 0);
+                // The same shadow rays: the render decides which to trace for the whole packet.
+                EXPECT_EQ(stats.shadow_rays, explained_shadow_rays);
+                if (shadows) {
+                    EXPECT_GT(explained_shadow_rays, 0u);
+                }
                 EXPECT_GT(back, 4);  // the clockwise triangle is seen from behind
                 EXPECT_GT(lit, image.width * image.height / 2);  // mostly surfaces, not background
             }

@@ -630,6 +630,39 @@ void specular_bases(SpecularModel model, const HitLanes& hits, const LaneVectors
         base[j] = positive_part(normal.x[j] * half.x[j] + normal.y[j] * half.y[j] + normal.z[j] * half.z[j]);
 }
 
+// needs_shadow_ray for every lane, from specular_bases' N·L and base: where reflect_light_terms
+// is exactly zero no shadow ray is traced. reflects_no_light's conditions, which for the course's
+// Phong are N·L <= 0, a positive shininess and V·R <= 0 (the base is 0 exactly then), and for
+// MIT's clamped Blinn N·L <= 0; the arriving colour must be finite (inf·0 is NaN). MIT's Blinn
+// times N·L asks the scalar function lane by lane.
+void shadow_ray_needs(const Scene& scene, const HitLanes& hits, const LaneVectors& to_light,
+                      const LaneVectors& arriving, const float* distance, const float* n_dot_l, const float* base,
+                      bool* needs) {
+    const int n = hits.count;
+    constexpr float kLargest = std::numeric_limits<float>::max();
+    switch (scene.conventions.specular) {
+        case SpecularModel::Phong:
+            for (int j = 0; j < n; ++j) {
+                const bool finite = std::fabs(arriving.x[j]) <= kLargest && std::fabs(arriving.y[j]) <= kLargest &&
+                                    std::fabs(arriving.z[j]) <= kLargest;
+                needs[j] = !(finite && !(n_dot_l[j] > 0) && hits.shininess[j] > 0 && base[j] == 0);
+            }
+            return;
+        case SpecularModel::BlinnClampedByNdotL:
+            for (int j = 0; j < n; ++j) {
+                const bool finite = std::fabs(arriving.x[j]) <= kLargest && std::fabs(arriving.y[j]) <= kLargest &&
+                                    std::fabs(arriving.z[j]) <= kLargest;
+                needs[j] = !(finite && !(n_dot_l[j] > 0));
+            }
+            return;
+        case SpecularModel::BlinnTimesNdotL:
+            for (int j = 0; j < n; ++j)
+                needs[j] = needs_shadow_ray(scene, *hits.material[j], hits.surface.normal.at(j), hits.to_viewer.at(j),
+                                            {to_light.at(j), arriving.at(j), distance[j]});
+            return;
+    }
+}
+
 // Adds a light's share to every lane (where lit[j], when `lit` is given): reflect_light_terms'
 // diffuse and specular terms (the power found per lane in `power`) times the arriving colour, as
 // local shading adds it.
@@ -733,14 +766,15 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
         bool lit[kMaxPacketLanes];
         illuminate_lanes(scene.lights[i], lanes, to_light, arriving, distance);
         specular_bases(model, lanes, to_light, n_dot_l, base);
+        bool needs[kMaxPacketLanes];
+        if (shadow_rays) shadow_ray_needs(scene, lanes, to_light, arriving, distance, n_dot_l, base, needs);
         bool all_lit = true;
         for (int j = 0; j < n; ++j) {
             // A light's share counts where its shadow ray (traced ahead, counted here as
             // local_shading counts it) was not blocked, or where none was needed. The sample's
             // ray budget is left alone: 64 rays cannot spend it, and no later ray would use it.
             lit[j] = true;
-            if (shadow_rays && needs_shadow_ray(scene, *lanes.material[j], lanes.surface.normal.at(j), lanes.to_viewer.at(j),
-                                                {to_light.at(j), arriving.at(j), distance[j]})) {
+            if (shadow_rays && needs[j]) {
                 const CameraShadows& answers = shadows[lanes.lane[j]];
                 RAYCAST_DCHECK((answers.known >> i) & 1);
                 ++counts.shadow;
@@ -789,6 +823,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
     for (int j = 0; j < n; ++j) {
         const int k = lanes.lane[j];
         lanes.material[j] = &scene.materials[lanes.surface.material[j]];
+        lanes.shininess[j] = lanes.material[j]->shininess;
         offset[j] = black_back_faces && lanes.back_face[j]
                         ? -1.0f
                         : ray_offset_distance(lanes.surface.position.at(j),
@@ -798,21 +833,22 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
     for (size_t i = 0; i < lights; ++i) {
         LaneVectors to_light, arriving;
         float distance[kMaxPacketLanes];
+        float n_dot_l[kMaxPacketLanes], base[kMaxPacketLanes];
+        bool needs[kMaxPacketLanes];
         illuminate_lanes(scene.lights[i], lanes, to_light, arriving, distance);
+        specular_bases(scene.conventions.specular, lanes, to_light, n_dot_l, base);
+        shadow_ray_needs(scene, lanes, to_light, arriving, distance, n_dot_l, base, needs);
         Ray shadow_rays[kMaxPacketLanes];
         float t_max[kMaxPacketLanes];
         bool blocked[kMaxPacketLanes];
         int traced_lane[kMaxPacketLanes];  // the hit of each ray
         int ray_count = 0;
         for (int j = 0; j < n; ++j) {
-            if (offset[j] < 0) continue;
-            const Illumination light{to_light.at(j), arriving.at(j), distance[j]};
-            if (!needs_shadow_ray(scene, *lanes.material[j], lanes.surface.normal.at(j), lanes.to_viewer.at(j), light))
-                continue;
+            if (offset[j] < 0 || !needs[j]) continue;
             shadow_rays[ray_count] = {offset_ray_origin_by(lanes.surface.position.at(j),
-                                                           lanes.surface.geometric_normal.at(j), light.to_light, offset[j]),
-                                      light.to_light};
-            t_max[ray_count] = light.distance;
+                                                           lanes.surface.geometric_normal.at(j), to_light.at(j), offset[j]),
+                                      to_light.at(j)};
+            t_max[ray_count] = distance[j];
             traced_lane[ray_count++] = j;
         }
         if (ray_count == 0) continue;
