@@ -51,6 +51,10 @@ struct CameraShadows {
     uint64_t blocked = 0;
     bool surface_found = false;  ///< whether `surface` holds the hit's point (it was a hit)
     SurfacePoint surface;
+    /// Whether the hit's colour is local shading alone (see shade_camera_hits_locally), found
+    /// with these shadow rays: `color`.
+    bool shaded = false;
+    Vec3f color;
 };
 
 /// Everything a radiance function knows about the ray it is shading besides the ray itself.

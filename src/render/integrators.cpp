@@ -709,17 +709,50 @@ void add_light_lanes(SpecularModel model, HitLanes& hits, const LaneVectors& arr
         if (lit[j]) color.set(j, color.at(j) + contribution.at(j));
 }
 
+// Whether whitted_hit_radiance shades a hit on `material` with local shading alone (and records
+// nothing): MIT's black back faces are off and the surface neither reflects nor transmits; its
+// only rays are then shadow rays.
+bool shades_locally(const Scene& scene, const Material& material) {
+    return !blackens_back_faces(scene.conventions) && material.reflective == Vec3f{0, 0, 0} &&
+           material.transparent == Vec3f{0, 0, 0};
+}
+
+// Local shading's first term for every lane (the material's colours gathered): the ambient.
+void begin_local_shading(const Scene& scene, HitLanes& hits) {
+    for (int j = 0; j < hits.count; ++j) {
+        const Material& material = *hits.material[j];
+        hits.diffuse.set(j, material.diffuse);
+        hits.specular.set(j, material.specular);
+    }
+    const Vec3f ambient = scene.ambient;
+    for (int j = 0; j < hits.count; ++j) {
+        hits.color.x[j] = ambient.x * hits.diffuse.x[j];
+        hits.color.y[j] = ambient.y * hits.diffuse.y[j];
+        hits.color.z[j] = ambient.z * hits.diffuse.z[j];
+    }
+}
+
+// One light's share added to the lanes' colours where lit[j] (every lane when `lit` is null), and
+// where wanted[j] (every lane when null): its specular power lane by lane (powf: a vector power
+// would round otherwise), then the terms in SIMD.
+void add_light_share(SpecularModel model, HitLanes& hits, const LaneVectors& arriving, const float* n_dot_l,
+                     const float* base, const bool* lit, const bool* wanted) {
+    float power[kMaxPacketLanes];
+    for (int j = 0; j < hits.count; ++j)
+        power[j] = (!lit || lit[j]) && (!wanted || wanted[j]) ? shade_detail::specular_power(base[j], hits.shininess[j])
+                                                               : 0.0f;
+    add_light_lanes(model, hits, arriving, n_dot_l, power, lit);
+}
+
 }  // namespace
 
 void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, const Hit* hits, int count,
                                const CameraShadows* shadows, RayCounts& counts, Vec3f* colors, bool* shaded) {
     const Scene& scene = integrator.scene;
-    // whitted_hit_radiance shades a hit with local shading alone, and records nothing, when MIT's
-    // black back faces are off and the surface neither reflects nor transmits; then its only rays
-    // are shadow rays, and with opaque shadows those of a camera hit were traced ahead (shadows).
     const bool shadow_rays = integrator.options.shadows;
-    const bool local = integrator.radiance == &whitted_radiance && !blackens_back_faces(scene.conventions) &&
-                       (!shadow_rays || (shadows && scene.lights.size() <= 64));
+    // With shadow rays, a hit can be shaded here only when they were traced ahead, and then
+    // trace_camera_shadows shaded it with them.
+    const bool local = integrator.radiance == &whitted_radiance && (!shadow_rays || shadows);
     HitLanes lanes;
     for (int k = 0; k < count; ++k) {
         shaded[k] = false;
@@ -727,64 +760,34 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
         if (!hits[k].is_hit()) {
             colors[k] = scene.background;
             shaded[k] = true;
-            continue;
+        } else if (shadow_rays) {
+            if (!shadows[k].shaded) continue;
+            // The colour with its shadow rays, counted here as local_shading counts them. The
+            // sample's ray budget is left alone: 64 rays cannot spend it, and no later ray would.
+            colors[k] = shadows[k].color;
+            counts.shadow += static_cast<uint64_t>(__builtin_popcountll(shadows[k].known));
+            shaded[k] = true;
+        } else {
+            const Material& material = scene.materials[scene.instances[hits[k].object].material];
+            if (!shades_locally(scene, material)) continue;
+            const int j = lanes.count++;
+            lanes.lane[j] = k;
+            lanes.material[j] = &material;
+            lanes.to_viewer.set(j, -rays[k].direction);
+            lanes.shininess[j] = material.shininess;
         }
-        const Material& material = scene.materials[scene.instances[hits[k].object].material];
-        if (material.reflective != Vec3f{0, 0, 0} || material.transparent != Vec3f{0, 0, 0}) continue;
-        const int j = lanes.count++;
-        lanes.lane[j] = k;
-        lanes.material[j] = &material;
-        lanes.to_viewer.set(j, -rays[k].direction);
-        lanes.diffuse.set(j, material.diffuse);
-        lanes.specular.set(j, material.specular);
-        lanes.shininess[j] = material.shininess;
     }
     const int n = lanes.count;
     if (n == 0) return;
-    // The hits' surface points, as shading_frame finds them: found with their shadow rays, or now.
-    if (shadow_rays) {
-        for (int j = 0; j < n; ++j) {
-            const CameraShadows& answers = shadows[lanes.lane[j]];
-            RAYCAST_DCHECK(answers.surface_found);
-            lanes.surface.position.set(j, answers.surface.position);
-            lanes.surface.normal.set(j, answers.surface.normal);
-        }
-    } else {
-        surface_points(scene, rays, hits, lanes.lane, n, lanes.surface);
-    }
+    surface_points(scene, rays, hits, lanes.lane, n, lanes.surface);
     shading_frames(lanes, scene.conventions);
-    const Vec3f ambient = scene.ambient;
-    for (int j = 0; j < n; ++j) {
-        lanes.color.x[j] = ambient.x * lanes.diffuse.x[j];
-        lanes.color.y[j] = ambient.y * lanes.diffuse.y[j];
-        lanes.color.z[j] = ambient.z * lanes.diffuse.z[j];
-    }
-    const SpecularModel model = scene.conventions.specular;
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
+    begin_local_shading(scene, lanes);
+    for (const Light& light : scene.lights) {
         LaneVectors to_light, arriving;
-        float distance[kMaxPacketLanes], n_dot_l[kMaxPacketLanes], base[kMaxPacketLanes], power[kMaxPacketLanes];
-        bool lit[kMaxPacketLanes];
-        illuminate_lanes(scene.lights[i], lanes, to_light, arriving, distance);
-        specular_bases(model, lanes, to_light, n_dot_l, base);
-        bool needs[kMaxPacketLanes];
-        if (shadow_rays) shadow_ray_needs(scene, lanes, to_light, arriving, distance, n_dot_l, base, needs);
-        bool all_lit = true;
-        for (int j = 0; j < n; ++j) {
-            // A light's share counts where its shadow ray (traced ahead, counted here as
-            // local_shading counts it) was not blocked, or where none was needed. The sample's
-            // ray budget is left alone: 64 rays cannot spend it, and no later ray would use it.
-            lit[j] = true;
-            if (shadow_rays && needs[j]) {
-                const CameraShadows& answers = shadows[lanes.lane[j]];
-                RAYCAST_DCHECK((answers.known >> i) & 1);
-                ++counts.shadow;
-                lit[j] = ((answers.blocked >> i) & 1) == 0;
-                all_lit = all_lit && lit[j];
-            }
-            // powf stays a call per lane: a vector power would round otherwise.
-            power[j] = lit[j] ? shade_detail::specular_power(base[j], lanes.shininess[j]) : 0.0f;
-        }
-        add_light_lanes(model, lanes, arriving, n_dot_l, power, all_lit ? nullptr : lit);
+        float distance[kMaxPacketLanes], n_dot_l[kMaxPacketLanes], base[kMaxPacketLanes];
+        illuminate_lanes(light, lanes, to_light, arriving, distance);
+        specular_bases(scene.conventions.specular, lanes, to_light, n_dot_l, base);
+        add_light_share(scene.conventions.specular, lanes, arriving, n_dot_l, base, nullptr, nullptr);
     }
     for (int j = 0; j < n; ++j) {
         colors[lanes.lane[j]] = lanes.color.at(j);
@@ -820,15 +823,21 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
     // and has none (offset < 0).
     float offset[kMaxPacketLanes];
     const bool black_back_faces = blackens_back_faces(scene.conventions);
+    // The hits whose colour is local shading alone are shaded here too, each light's share added
+    // once its shadow rays are answered (shade_camera_hits_locally takes the colour).
+    bool local[kMaxPacketLanes];
+    const bool shading = integrator.radiance == &whitted_radiance && scene.lights.size() <= 64;
     for (int j = 0; j < n; ++j) {
         const int k = lanes.lane[j];
         lanes.material[j] = &scene.materials[lanes.surface.material[j]];
         lanes.shininess[j] = lanes.material[j]->shininess;
+        local[j] = shading && shades_locally(scene, *lanes.material[j]);
         offset[j] = black_back_faces && lanes.back_face[j]
                         ? -1.0f
                         : ray_offset_distance(lanes.surface.position.at(j),
                                               ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t));
     }
+    begin_local_shading(scene, lanes);
     const size_t lights = std::min<size_t>(scene.lights.size(), 64);
     for (size_t i = 0; i < lights; ++i) {
         LaneVectors to_light, arriving;
@@ -851,16 +860,28 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
             t_max[ray_count] = distance[j];
             traced_lane[ray_count++] = j;
         }
-        if (ray_count == 0) continue;
-        tracer.occluded(shadow_rays, ray_count, 0, t_max, blocked);
-        for (int r = 0; r < ray_count; ++r) {
-            CameraShadows& answers = shadows[lanes.lane[traced_lane[r]]];
-            answers.known |= uint64_t{1} << i;
-            answers.blocked |= uint64_t{blocked[r]} << i;
+        bool lit[kMaxPacketLanes];  // a lane is lit unless its shadow ray was blocked
+        for (int j = 0; j < n; ++j) lit[j] = true;
+        bool all_lit = true;
+        if (ray_count > 0) {
+            tracer.occluded(shadow_rays, ray_count, 0, t_max, blocked);
+            for (int r = 0; r < ray_count; ++r) {
+                CameraShadows& answers = shadows[lanes.lane[traced_lane[r]]];
+                answers.known |= uint64_t{1} << i;
+                answers.blocked |= uint64_t{blocked[r]} << i;
+                lit[traced_lane[r]] = !blocked[r];
+                all_lit = all_lit && !blocked[r];
+            }
         }
+        add_light_share(scene.conventions.specular, lanes, arriving, n_dot_l, base, all_lit ? nullptr : lit, local);
     }
     lanes.surface.normal = surface_normal;
-    for (int j = 0; j < n; ++j) shadows[lanes.lane[j]].surface = lanes.surface.at(j);
+    for (int j = 0; j < n; ++j) {
+        CameraShadows& answers = shadows[lanes.lane[j]];
+        answers.surface = lanes.surface.at(j);
+        answers.shaded = local[j];
+        answers.color = lanes.color.at(j);
+    }
 }
 
 }  // namespace raycast
