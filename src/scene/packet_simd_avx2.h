@@ -14,9 +14,8 @@ inline void store(float* p, VF a) { _mm256_storeu_ps(p, a.v); }
 // read in place, for a store of the struct moments ago forwards to a load of the same size, and
 // not to a vector load of a copy written field by field).
 inline VF load_strided(const float* first, int stride, int count) {
-    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    const __m256i live = _mm256_cmpgt_epi32(_mm256_set1_epi32(count), lane);
-    return {_mm256_i32gather_ps(first, _mm256_and_si256(live, _mm256_mullo_epi32(lane, _mm256_set1_epi32(stride))), 4)};
+    auto at = [&](int lane) { return first[lane < count ? lane * stride : 0]; };
+    return {_mm256_setr_ps(at(0), at(1), at(2), at(3), at(4), at(5), at(6), at(7))};
 }
 inline VF operator+(VF a, VF b) { return {_mm256_add_ps(a.v, b.v)}; }
 inline VF operator-(VF a, VF b) { return {_mm256_sub_ps(a.v, b.v)}; }

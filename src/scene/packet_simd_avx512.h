@@ -14,9 +14,9 @@ inline void store(float* p, VF a) { _mm512_storeu_ps(p, a.v); }
 // read in place, for a store of the struct moments ago forwards to a load of the same size, and
 // not to a vector load of a copy written field by field).
 inline VF load_strided(const float* first, int stride, int count) {
-    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    const __mmask16 live = static_cast<__mmask16>((1u << count) - 1);
-    return {_mm512_i32gather_ps(_mm512_maskz_mullo_epi32(live, lane, _mm512_set1_epi32(stride)), first, 4)};
+    auto at = [&](int lane) { return first[lane < count ? lane * stride : 0]; };
+    return {_mm512_setr_ps(at(0), at(1), at(2), at(3), at(4), at(5), at(6), at(7), at(8), at(9), at(10), at(11),
+                           at(12), at(13), at(14), at(15))};
 }
 inline VF operator+(VF a, VF b) { return {_mm512_add_ps(a.v, b.v)}; }
 inline VF operator-(VF a, VF b) { return {_mm512_sub_ps(a.v, b.v)}; }
