@@ -827,17 +827,19 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
     // once its shadow rays are answered (shade_camera_hits_locally takes the colour).
     bool local[kMaxPacketLanes];
     const bool shading = integrator.radiance == &whitted_radiance && scene.lights.size() <= 64;
+    bool any_local = false;
     for (int j = 0; j < n; ++j) {
         const int k = lanes.lane[j];
         lanes.material[j] = &scene.materials[lanes.surface.material[j]];
         lanes.shininess[j] = lanes.material[j]->shininess;
         local[j] = shading && shades_locally(scene, *lanes.material[j]);
+        any_local = any_local || local[j];
         offset[j] = black_back_faces && lanes.back_face[j]
                         ? -1.0f
                         : ray_offset_distance(lanes.surface.position.at(j),
                                               ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t));
     }
-    begin_local_shading(scene, lanes);
+    if (any_local) begin_local_shading(scene, lanes);
     const size_t lights = std::min<size_t>(scene.lights.size(), 64);
     for (size_t i = 0; i < lights; ++i) {
         LaneVectors to_light, arriving;
@@ -873,14 +875,15 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
                 all_lit = all_lit && !blocked[r];
             }
         }
-        add_light_share(scene.conventions.specular, lanes, arriving, n_dot_l, base, all_lit ? nullptr : lit, local);
+        if (any_local)
+            add_light_share(scene.conventions.specular, lanes, arriving, n_dot_l, base, all_lit ? nullptr : lit, local);
     }
     lanes.surface.normal = surface_normal;
     for (int j = 0; j < n; ++j) {
         CameraShadows& answers = shadows[lanes.lane[j]];
         answers.surface = lanes.surface.at(j);
         answers.shaded = local[j];
-        answers.color = lanes.color.at(j);
+        if (local[j]) answers.color = lanes.color.at(j);
     }
 }
 
