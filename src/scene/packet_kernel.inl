@@ -96,14 +96,15 @@ inline void prepare_inverses(PacketRays& r) {
 // garbage.
 inline PacketRays load_packet(const Ray* rays, int count) {
     static_assert(sizeof(Ray) == 6 * sizeof(float), "a ray is six floats");
-    const float* first = &rays[0].origin.x;
+    VF fields[6];
+    load_six_fields(&rays[0].origin.x, count, fields);
     PacketRays r;
-    r.ox = load_strided(first + 0, 6, count);
-    r.oy = load_strided(first + 1, 6, count);
-    r.oz = load_strided(first + 2, 6, count);
-    r.dx = load_strided(first + 3, 6, count);
-    r.dy = load_strided(first + 4, 6, count);
-    r.dz = load_strided(first + 5, 6, count);
+    r.ox = fields[0];
+    r.oy = fields[1];
+    r.oz = fields[2];
+    r.dx = fields[3];
+    r.dy = fields[4];
+    r.dz = fields[5];
     r.live = mask_from_bits((1u << count) - 1);
     prepare_inverses(r);
     return r;

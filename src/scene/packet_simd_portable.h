@@ -86,6 +86,11 @@ inline VF load_strided(const float* first, int stride, int count) {
     for (int i = 0; i < kLanes; ++i) r.v[i] = first[i < count ? i * stride : 0];
     return r;
 }
+// Lane i of out[f] is first[6 i + f] (f < 6) for i < count, lane 0's for the others: the six
+// fields of an array of six-float structs (rays), each field as load_strided reads it.
+inline void load_six_fields(const float* first, int count, VF* out) {
+    for (int f = 0; f < 6; ++f) out[f] = load_strided(first + f, 6, count);
+}
 inline VM mask_from_bits(unsigned b) { return {b & ((1u << kLanes) - 1)}; }
 inline unsigned sign_bits(VF a) {
     unsigned m = 0;

@@ -17,6 +17,11 @@ inline VF load_strided(const float* first, int stride, int count) {
     auto at = [&](int lane) { return first[lane < count ? lane * stride : 0]; };
     return {_mm_setr_ps(at(0), at(1), at(2), at(3))};
 }
+// Lane i of out[f] is first[6 i + f] (f < 6) for i < count, lane 0's for the others: the six
+// fields of an array of six-float structs (rays), each field as load_strided reads it.
+inline void load_six_fields(const float* first, int count, VF* out) {
+    for (int f = 0; f < 6; ++f) out[f] = load_strided(first + f, 6, count);
+}
 inline VF operator+(VF a, VF b) { return {_mm_add_ps(a.v, b.v)}; }
 inline VF operator-(VF a, VF b) { return {_mm_sub_ps(a.v, b.v)}; }
 inline VF operator*(VF a, VF b) { return {_mm_mul_ps(a.v, b.v)}; }
