@@ -529,19 +529,6 @@ struct HitLanes {
     float shininess[kMaxPacketLanes];
 };
 
-// normalize(a) for every lane: a / |a|, a zero vector staying zero. Dividing by 1 leaves a
-// component exactly as it is, and a division made on no condition is one the compiler
-// vectorises (a conditional one might trap where the scalar code would not divide).
-void normalize_lanes(LaneVectors& a, float* length, int count) {
-    for (int j = 0; j < count; ++j) length[j] = std::sqrt(a.x[j] * a.x[j] + a.y[j] * a.y[j] + a.z[j] * a.z[j]);
-    for (int j = 0; j < count; ++j) {
-        const float divisor = length[j] > 0 ? length[j] : 1.0f;
-        a.x[j] = a.x[j] / divisor;
-        a.y[j] = a.y[j] / divisor;
-        a.z[j] = a.z[j] / divisor;
-    }
-}
-
 // shading_frame for every lane, from its surface point and its to_viewer (set to the ray's
 // reversed direction): to_viewer made unit, and the surface normal made the shading normal; with
 // either back-face rule, back_face (without, it is not set: nothing asks).

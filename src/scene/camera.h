@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "math/lane_vectors.h"
 #include "math/ray.h"
 #include "scene/conventions.h"
 #include "scene/scene_desc.h"
@@ -50,27 +51,19 @@ inline void camera_rays_at(const Camera& camera, const float* a, const float* b,
         for (int i = 0; i < count; ++i) rays[i] = camera_ray_at(camera, a[i], b[i]);
         return;
     }
-    constexpr int kChunk = 16;
+    constexpr int kChunk = kMaxLanes;
     const Vec3f h = camera.horizontal, u = camera.up, d = camera.direction;
     for (int first = 0; first < count; first += kChunk) {
         const int n = count - first < kChunk ? count - first : kChunk;
-        float x[kChunk], y[kChunk], z[kChunk], length[kChunk];
+        LaneVectors direction;
         for (int i = 0; i < n; ++i) {  // a·horizontal + b·up + direction, as camera_ray_at adds them
-            x[i] = a[first + i] * h.x + b[first + i] * u.x + d.x;
-            y[i] = a[first + i] * h.y + b[first + i] * u.y + d.y;
-            z[i] = a[first + i] * h.z + b[first + i] * u.z + d.z;
+            direction.x[i] = a[first + i] * h.x + b[first + i] * u.x + d.x;
+            direction.y[i] = a[first + i] * h.y + b[first + i] * u.y + d.y;
+            direction.z[i] = a[first + i] * h.z + b[first + i] * u.z + d.z;
         }
-        for (int i = 0; i < n; ++i) length[i] = std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]);
-        for (int i = 0; i < n; ++i) {
-            // normalize(): a zero vector stays zero. Dividing by 1 keeps it exactly as not
-            // dividing does, and a division on no condition is one the compiler vectorises (a
-            // conditional one might trap where the scalar code would not divide).
-            const float divisor = length[i] > 0 ? length[i] : 1.0f;
-            x[i] = x[i] / divisor;
-            y[i] = y[i] / divisor;
-            z[i] = z[i] / divisor;
-        }
-        for (int i = 0; i < n; ++i) rays[first + i] = {camera.center, {x[i], y[i], z[i]}};
+        float length[kChunk];
+        normalize_lanes(direction, length, n);
+        for (int i = 0; i < n; ++i) rays[first + i] = {camera.center, direction.at(i)};
     }
 }
 

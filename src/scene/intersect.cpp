@@ -238,16 +238,7 @@ void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const 
         normal.z[j] = ax * by - ay * bx;
     }
     float length[kMaxPacketLanes];
-    for (int j = 0; j < count; ++j)
-        length[j] = std::sqrt(normal.x[j] * normal.x[j] + normal.y[j] * normal.y[j] + normal.z[j] * normal.z[j]);
-    for (int j = 0; j < count; ++j) {
-        // normalize's zero vector stays zero: dividing by 1 keeps it so, and a division made on
-        // no condition is one the compiler vectorises.
-        const float divisor = length[j] > 0 ? length[j] : 1.0f;
-        normal.x[j] = normal.x[j] / divisor;
-        normal.y[j] = normal.y[j] / divisor;
-        normal.z[j] = normal.z[j] / divisor;
-    }
+    normalize_lanes(normal, length, count);
     out.geometric_normal = normal;  // a flat triangle's, and overwritten for the others
     for (int i = 0; i < other_count; ++i) {
         const int j = others[i];

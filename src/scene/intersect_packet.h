@@ -7,13 +7,14 @@
 
 #include <vector>
 
+#include "math/lane_vectors.h"
 #include "scene/packet_view.h"
 #include "scene/scene.h"
 
 namespace raycast {
 
-/// The most rays one packet holds.
-constexpr int kMaxPacketLanes = 16;
+/// The most rays one packet holds: as many as a LaneVectors (math/lane_vectors.h) has lanes.
+constexpr int kMaxPacketLanes = kMaxLanes;
 
 enum class PacketIsa {
     None,      ///< no packets: every ray alone
@@ -36,19 +37,6 @@ int packet_isa_lanes(PacketIsa isa);
 /// The single-ray kernel for meshes of an available instruction set (AVX-512 CPUs run the AVX2
 /// one; None gives the portable one). intersect() and occluded() use best_packet_isa()'s.
 const MeshRayKernel& mesh_ray_kernel(PacketIsa isa);
-
-/// Up to kMaxPacketLanes vectors, one array per component (structure of arrays): a loop over
-/// the lanes doing one vector operation is one the compiler makes SIMD instructions of.
-struct LaneVectors {
-    float x[kMaxPacketLanes], y[kMaxPacketLanes], z[kMaxPacketLanes];
-
-    Vec3f at(int j) const { return {x[j], y[j], z[j]}; }
-    void set(int j, Vec3f v) {
-        x[j] = v.x;
-        y[j] = v.y;
-        z[j] = v.z;
-    }
-};
 
 /// surface_at's SurfacePoint for several hits, a lane each.
 struct SurfaceLanes {
