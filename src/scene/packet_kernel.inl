@@ -299,6 +299,24 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
     }
 }
 
+// Asks for a child's memory as soon as a packet's test enters it, before it is visited (the
+// nearest child at once, the others when popped): an inner node's cache lines, or the first
+// three of a leaf's groups (a leaf of 8 triangles is one group of about 180 bytes). At 1M
+// triangles and more, most of what a packet reaches is not in the caches yet, and waiting for it
+// one line at a time was the largest single cost of the leaf test (docs/performance.md). Forced
+// inline: GCC finds a function that only prefetches free of side effects and drops its calls.
+[[gnu::always_inline]] inline void prefetch_child(const MeshView& mesh, uint32_t ref) {
+    if (ref & kWideLeafFlag) {
+        const char* group = reinterpret_cast<const char*>(mesh.groups + (ref & kWidePayloadMask));
+        __builtin_prefetch(group);
+        __builtin_prefetch(group + 64);
+        __builtin_prefetch(group + 128);
+        return;
+    }
+    const char* node = reinterpret_cast<const char*>(mesh.nodes + ref);
+    for (size_t line = 0; line < sizeof(WideBvhNode); line += 64) __builtin_prefetch(node + line);
+}
+
 #ifdef RAYCAST_PACKET_FRUSTUM
 // A packet whose live rays go the same way along every axis (with t_min >= 0), as one frustum:
 // each node's eight child boxes are tested at once, in one 8-lane register (wide8, the TU's
@@ -374,8 +392,9 @@ inline unsigned frustum_children(const WideBvhNode& node, const PacketFrustum& f
 // popped if they begin beyond max_cull() (the farthest of the live lanes' cull distances, read
 // again after every leaf). visit_leaf(payload) returns true to stop.
 template <typename CullFn, typename LeafFn>
-inline void traverse_frustum(const WideBvhNode* nodes, const PacketFrustum& f, float t_min, CullFn&& max_cull,
+inline void traverse_frustum(const MeshView& mesh, const PacketFrustum& f, float t_min, CullFn&& max_cull,
                              LeafFn&& visit_leaf) {
+    const WideBvhNode* nodes = mesh.nodes;
     struct Pending {
         uint32_t ref;
         float t_entry;
@@ -397,6 +416,7 @@ inline void traverse_frustum(const WideBvhNode* nodes, const PacketFrustum& f, f
                 for (; hits; hits &= hits - 1) {
                     const unsigned slot = lowest_bit(hits);
                     const Pending child{node.child[slot], t[slot]};
+                    prefetch_child(mesh, child.ref);
                     int i = count++;
                     for (; i > 0 && entered[i - 1].t_entry < child.t_entry; --i) entered[i] = entered[i - 1];
                     entered[i] = child;
@@ -429,8 +449,9 @@ inline void traverse_frustum(const WideBvhNode* nodes, const PacketFrustum& f, f
 // leaf, and returns true to stop; t_cull() and r.live are re-read after it. Without kNearFirst,
 // children are visited in slot order (for an any-hit query, whose cull distance never changes).
 template <SlabTest kTest, bool kNearFirst, typename CullFn, typename LeafFn>
-inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, const SameOctant& octant,
-                                 const VF& t_min, CullFn&& t_cull, LeafFn&& visit_leaf) {
+inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, const SameOctant& octant, const VF& t_min,
+                                 CullFn&& t_cull, LeafFn&& visit_leaf) {
+    const WideBvhNode* nodes = mesh.nodes;
     struct Pending {
         uint32_t node, slot;
     };
@@ -451,6 +472,7 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
                 slots |= 1u << slot;
                 lanes |= bits(entered[slot]);
             }
+            for (unsigned b = slots; b; b &= b - 1) prefetch_child(mesh, node.child[lowest_bit(b)]);
             if (slots != 0 && !kNearFirst) {  // any order will do: the cull distance cannot change
                 const unsigned first = lowest_bit(slots);
                 for (unsigned b = slots & (slots - 1); b; b &= b - 1) stack[stack_size++] = {ref, lowest_bit(b)};
@@ -502,16 +524,16 @@ inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, 
 // traverse_packet_wide with the fastest slab test the packet allows (kNearFirst: for a closest-hit
 // query; an any-hit query takes the children in slot order).
 template <bool kNearFirst, typename CullFn, typename LeafFn>
-inline void traverse_packet_wide(const WideBvhNode* nodes, const PacketRays& r, float t_min, CullFn&& t_cull,
+inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, float t_min, CullFn&& t_cull,
                                  LeafFn&& visit_leaf) {
     SameOctant octant;
     const VF t_min_v = splat(t_min);
     if (t_min < 0)
-        traverse_packet_wide<SlabTest::Widened, kNearFirst>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::Widened, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf);
     else if (same_octant(r, octant))
-        traverse_packet_wide<SlabTest::SameOctant, kNearFirst>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::SameOctant, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf);
     else
-        traverse_packet_wide<SlabTest::AnyOctant, kNearFirst>(nodes, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::AnyOctant, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf);
 }
 
 // Offers each lane in `candidates` the hit (t, u, v) on (object, prim); keeps the closer, with
@@ -637,12 +659,12 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
 #ifdef RAYCAST_PACKET_FRUSTUM
     SameOctant octant;
     if (s.t_min >= 0 && same_octant(r, octant) && one_origin(r)) {
-        traverse_frustum(mesh.nodes, make_frustum(r, octant), s.t_min,
+        traverse_frustum(mesh, make_frustum(r, octant), s.t_min,
                          [&] { return max_of_lanes(cull_distance_v(s.best_t), r.live); }, visit_leaf);
         return;
     }
 #endif
-    traverse_packet_wide<true>(mesh.nodes, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
+    traverse_packet_wide<true>(mesh, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
                                [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
 }
 
@@ -689,7 +711,7 @@ inline void occluded_mesh_packet(PacketRays& r, const MeshView& mesh, float t_mi
         }
         return !any(r.live);
     };
-    traverse_packet_wide<false>(mesh.nodes, r, t_min, [&] { return t_cull; }, visit_leaf);
+    traverse_packet_wide<false>(mesh, r, t_min, [&] { return t_cull; }, visit_leaf);
 }
 
 // intersect_sphere (geometry/sphere.h) in every lane of `lanes`, operation for operation (the
