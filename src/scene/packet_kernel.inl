@@ -452,8 +452,11 @@ template <SlabTest kTest, bool kNearFirst, typename CullFn, typename LeafFn>
 inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, const SameOctant& octant, const VF& t_min,
                                  CullFn&& t_cull, LeafFn&& visit_leaf) {
     const WideBvhNode* nodes = mesh.nodes;
+    // A closest-hit walk keeps (node, slot) and tests the child's box again when it pops it,
+    // against the nearer hits found meanwhile. An any-hit walk's cull distances never change, so
+    // it keeps the child and the lanes that entered it, less those blocked since.
     struct Pending {
-        uint32_t node, slot;
+        uint32_t node, slot;  // any-hit: the child, and the lanes' bits
     };
     Pending stack[kWideStackSize];
     int stack_size = 0;
@@ -475,7 +478,10 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
             for (unsigned b = slots; b; b &= b - 1) prefetch_child(mesh, node.child[lowest_bit(b)]);
             if (slots != 0 && !kNearFirst) {  // any order will do: the cull distance cannot change
                 const unsigned first = lowest_bit(slots);
-                for (unsigned b = slots & (slots - 1); b; b &= b - 1) stack[stack_size++] = {ref, lowest_bit(b)};
+                for (unsigned b = slots & (slots - 1); b; b &= b - 1) {
+                    const unsigned slot = lowest_bit(b);
+                    stack[stack_size++] = {node.child[slot], bits(entered[slot])};
+                }
                 reached = entered[first];
                 ref = node.child[first];
                 continue;
@@ -510,6 +516,14 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
         for (;;) {
             if (stack_size == 0) return;
             const Pending next = stack[--stack_size];
+            if (!kNearFirst) {
+                reached = mask_from_bits(next.slot) & r.live;
+                if (any(reached)) {
+                    ref = next.node;
+                    break;
+                }
+                continue;
+            }
             const WideBvhNode& parent = nodes[next.node];
             VF t_entry;
             reached = child_hits<kTest>(parent, next.slot, r, octant, t_min, t_cull(), t_entry);
