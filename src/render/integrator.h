@@ -120,11 +120,16 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
 /// in packets: shaded mode, opaque shadows, at least one light.
 bool traces_camera_shadows(const Integrator& integrator);
 
+/// How many camera hits trace_camera_shadows takes at once: two packets' worth, so that the
+/// shadow rays of two neighbouring blocks towards a light share packets.
+constexpr int kMaxCameraShadowHits = 2 * kMaxPacketLanes;
+
 /// Shadow rays are coherent where camera rays are: from neighbouring hits towards one light. For
 /// each light (the first 64), traces the shadow rays of the hits among rays[0..count) (count <=
-/// tracer.lanes()) together, as one packet any-hit query, from exactly the origins local shading
-/// would use and only where it would trace one, and writes each lane's answers to shadows[k]. The image is the same as with the rays
-/// traced one by one; the rays are counted when shading uses their answers.
+/// kMaxCameraShadowHits) together, as packet any-hit queries of up to tracer.lanes() rays, from
+/// exactly the origins local shading would use and only where it would trace one, and writes each
+/// hit's answers to shadows[k]. The image is the same as with the rays traced one by one; the rays
+/// are counted when shading uses their answers.
 void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
                           int count, CameraShadows* shadows);
 

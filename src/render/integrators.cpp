@@ -787,12 +787,37 @@ bool traces_camera_shadows(const Integrator& integrator) {
            !integrator.options.transparent_shadows && !integrator.scene.lights.empty();
 }
 
-void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
-                          int count, CameraShadows* shadows) {
-    const Scene& scene = integrator.scene;
-    // Each hit as local shading sees it (whitted_hit_radiance and local_shading above), found for
-    // the packet's hits together, a step at a time (HitLanes).
+namespace {
+
+// Up to a packet's worth of camera hits, prepared for their shadow rays (trace_camera_shadows):
+// each hit as local shading sees it (whitted_hit_radiance and local_shading above), found for the
+// hits together, a step at a time (HitLanes), and the current light's terms between making its
+// rays and adding its share.
+struct ShadowPart {
+    const Ray* rays = nullptr;
+    const Hit* hits = nullptr;
+    CameraShadows* shadows = nullptr;
     HitLanes lanes;
+    LaneVectors surface_normal;  // for shadows[k], as surface_at gives it
+    // Every shadow ray of a hit leaves its point by the same distance; a black back face is unlit
+    // and has none (offset < 0).
+    float offset[kMaxPacketLanes];
+    // The hits whose colour is local shading alone are shaded here too, each light's share added
+    // once its shadow rays are answered (shade_camera_hits_locally takes the colour).
+    bool local[kMaxPacketLanes];
+    bool any_local = false;
+    LaneVectors arriving;
+    float n_dot_l[kMaxPacketLanes], base[kMaxPacketLanes];
+    int first_ray = 0, ray_count = 0;  // the current light's rays, in the shared array
+};
+
+// Fills a part from rays[0..count) (count <= kMaxPacketLanes) up to the lights.
+void prepare_shadow_part(const Scene& scene, bool shading, const Ray* rays, const Hit* hits, int count,
+                         CameraShadows* shadows, ShadowPart& part) {
+    part.rays = rays;
+    part.hits = hits;
+    part.shadows = shadows;
+    HitLanes& lanes = part.lanes;
     for (int k = 0; k < count; ++k) {
         shadows[k] = CameraShadows{};
         if (!hits[k].is_hit()) continue;
@@ -804,73 +829,100 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
     const int n = lanes.count;
     if (n == 0) return;
     surface_points(scene, rays, hits, lanes.lane, n, lanes.surface);
-    const LaneVectors surface_normal = lanes.surface.normal;  // for shadows[k], as surface_at gives it
+    part.surface_normal = lanes.surface.normal;
     shading_frames(lanes, scene.conventions);
-    // Every shadow ray of a hit leaves its point by the same distance; a black back face is unlit
-    // and has none (offset < 0).
-    float offset[kMaxPacketLanes];
     const bool black_back_faces = blackens_back_faces(scene.conventions);
-    // The hits whose colour is local shading alone are shaded here too, each light's share added
-    // once its shadow rays are answered (shade_camera_hits_locally takes the colour).
-    bool local[kMaxPacketLanes];
-    const bool shading = integrator.radiance == &whitted_radiance && scene.lights.size() <= 64;
-    bool any_local = false;
     for (int j = 0; j < n; ++j) {
         const int k = lanes.lane[j];
         lanes.material[j] = &scene.materials[lanes.surface.material[j]];
         lanes.shininess[j] = lanes.material[j]->shininess;
-        local[j] = shading && shades_locally(scene, *lanes.material[j]);
-        any_local = any_local || local[j];
-        offset[j] = black_back_faces && lanes.back_face[j]
-                        ? -1.0f
-                        : ray_offset_distance(lanes.surface.position.at(j),
-                                              ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t));
+        part.local[j] = shading && shades_locally(scene, *lanes.material[j]);
+        part.any_local = part.any_local || part.local[j];
+        part.offset[j] = black_back_faces && lanes.back_face[j]
+                             ? -1.0f
+                             : ray_offset_distance(lanes.surface.position.at(j),
+                                                   ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t));
     }
-    if (any_local) begin_local_shading(scene, lanes);
+    if (part.any_local) begin_local_shading(scene, lanes);
+}
+
+}  // namespace
+
+void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
+                          int count, CameraShadows* shadows) {
+    RAYCAST_DCHECK(count <= kMaxCameraShadowHits);
+    const Scene& scene = integrator.scene;
+    const bool shading = integrator.radiance == &whitted_radiance && scene.lights.size() <= 64;
+    constexpr int kMaxParts = kMaxCameraShadowHits / kMaxPacketLanes;
+    ShadowPart parts[kMaxParts];
+    int part_count = 0;
+    for (int first = 0; first < count; first += kMaxPacketLanes) {
+        ShadowPart& part = parts[part_count++];
+        prepare_shadow_part(scene, shading, rays + first, hits + first, std::min(kMaxPacketLanes, count - first),
+                            shadows + first, part);
+        if (part.lanes.count == 0) --part_count;  // nothing to trace or shade
+    }
+    if (part_count == 0) return;
     const size_t lights = std::min<size_t>(scene.lights.size(), 64);
     for (size_t i = 0; i < lights; ++i) {
-        LaneVectors to_light, arriving;
-        float distance[kMaxPacketLanes];
-        float n_dot_l[kMaxPacketLanes], base[kMaxPacketLanes];
-        bool needs[kMaxPacketLanes];
-        illuminate_lanes(scene.lights[i], lanes, to_light, arriving, distance);
-        specular_bases(scene.conventions.specular, lanes, to_light, n_dot_l, base);
-        shadow_ray_needs(scene, lanes, to_light, arriving, distance, n_dot_l, base, needs);
-        Ray shadow_rays[kMaxPacketLanes];
-        float t_max[kMaxPacketLanes];
-        bool blocked[kMaxPacketLanes];
-        int traced_lane[kMaxPacketLanes];  // the hit of each ray
+        // The light's shadow rays from every part, traced in as few packets as hold them: a
+        // block's hits that face the light are often a third of it, and a packet costs its walk
+        // however few of its lanes hold rays.
+        Ray shadow_rays[kMaxCameraShadowHits];
+        float t_max[kMaxCameraShadowHits];
+        int traced_lane[kMaxCameraShadowHits];  // the hit of each ray, in its part
         int ray_count = 0;
-        for (int j = 0; j < n; ++j) {
-            if (offset[j] < 0 || !needs[j]) continue;
-            shadow_rays[ray_count] = {offset_ray_origin_by(lanes.surface.position.at(j),
-                                                           lanes.surface.geometric_normal.at(j), to_light.at(j), offset[j]),
-                                      to_light.at(j)};
-            t_max[ray_count] = distance[j];
-            traced_lane[ray_count++] = j;
+        for (int p = 0; p < part_count; ++p) {
+            ShadowPart& part = parts[p];
+            HitLanes& lanes = part.lanes;
+            LaneVectors to_light;
+            float distance[kMaxPacketLanes];
+            bool needs[kMaxPacketLanes];
+            illuminate_lanes(scene.lights[i], lanes, to_light, part.arriving, distance);
+            specular_bases(scene.conventions.specular, lanes, to_light, part.n_dot_l, part.base);
+            shadow_ray_needs(scene, lanes, to_light, part.arriving, distance, part.n_dot_l, part.base, needs);
+            part.first_ray = ray_count;
+            for (int j = 0; j < lanes.count; ++j) {
+                if (part.offset[j] < 0 || !needs[j]) continue;
+                shadow_rays[ray_count] = {offset_ray_origin_by(lanes.surface.position.at(j),
+                                                               lanes.surface.geometric_normal.at(j), to_light.at(j),
+                                                               part.offset[j]),
+                                          to_light.at(j)};
+                t_max[ray_count] = distance[j];
+                traced_lane[ray_count++] = j;
+            }
+            part.ray_count = ray_count - part.first_ray;
         }
-        bool lit[kMaxPacketLanes];  // a lane is lit unless its shadow ray was blocked
-        for (int j = 0; j < n; ++j) lit[j] = true;
-        bool all_lit = true;
-        if (ray_count > 0) {
-            tracer.occluded(shadow_rays, ray_count, 0, t_max, blocked);
-            for (int r = 0; r < ray_count; ++r) {
-                CameraShadows& answers = shadows[lanes.lane[traced_lane[r]]];
+        bool blocked[kMaxCameraShadowHits];
+        for (int first = 0; first < ray_count; first += tracer.lanes())
+            tracer.occluded(shadow_rays + first, std::min(tracer.lanes(), ray_count - first), 0, t_max + first,
+                            blocked + first);
+        for (int p = 0; p < part_count; ++p) {
+            ShadowPart& part = parts[p];
+            bool lit[kMaxPacketLanes];  // a lane is lit unless its shadow ray was blocked
+            for (int j = 0; j < part.lanes.count; ++j) lit[j] = true;
+            bool all_lit = true;
+            for (int r = part.first_ray; r < part.first_ray + part.ray_count; ++r) {
+                CameraShadows& answers = part.shadows[part.lanes.lane[traced_lane[r]]];
                 answers.known |= uint64_t{1} << i;
                 answers.blocked |= uint64_t{blocked[r]} << i;
                 lit[traced_lane[r]] = !blocked[r];
                 all_lit = all_lit && !blocked[r];
             }
+            if (part.any_local)
+                add_light_share(scene.conventions.specular, part.lanes, part.arriving, part.n_dot_l, part.base,
+                                all_lit ? nullptr : lit, part.local);
         }
-        if (any_local)
-            add_light_share(scene.conventions.specular, lanes, arriving, n_dot_l, base, all_lit ? nullptr : lit, local);
     }
-    lanes.surface.normal = surface_normal;
-    for (int j = 0; j < n; ++j) {
-        CameraShadows& answers = shadows[lanes.lane[j]];
-        answers.surface = lanes.surface.at(j);
-        answers.shaded = local[j];
-        if (local[j]) answers.color = lanes.color.at(j);
+    for (int p = 0; p < part_count; ++p) {
+        ShadowPart& part = parts[p];
+        part.lanes.surface.normal = part.surface_normal;
+        for (int j = 0; j < part.lanes.count; ++j) {
+            CameraShadows& answers = part.shadows[part.lanes.lane[j]];
+            answers.surface = part.lanes.surface.at(j);
+            answers.shaded = part.local[j];
+            if (part.local[j]) answers.color = part.lanes.color.at(j);
+        }
     }
 }
 
