@@ -16,9 +16,9 @@ namespace raycast {
 
 namespace {
 
-// The pixels the render loop takes together: a packet's, or two packets' where shadow rays are
-// traced ahead (see render_tile).
-constexpr int kMaxBlockPixels = 2 * kMaxPacketLanes;
+// The pixels the render loop takes together: a packet's, or kCameraShadowPackets packets' where
+// shadow rays are traced ahead (see render_tile).
+constexpr int kMaxBlockPixels = kMaxCameraShadowHits;
 
 // Pixel (x, y) of the camera's full frame, y = 0 at the bottom, is pixel number y·width + x: the
 // seed of its samples, so a pixel is the same whatever tile, thread or crop renders it.
@@ -198,8 +198,8 @@ private:
         std::vector<float> plane_x, plane_y;
     };
 
-    // kShadowsAhead is camera_shadows_: blocks are then two packets. Each case has its own copy:
-    // with one copy sized for two packets, the plain 1k render measured 2-3% slower.
+    // kShadowsAhead is camera_shadows_: blocks are then several packets. Each case has its own
+    // copy: with one copy sized for two packets, the plain 1k render measured 2-3% slower.
     template <bool kShadowsAhead>
     void render_tile(int x_begin, int y_begin, int x_end, int y_end, WorkerState& worker) {
         constexpr int kBlockPixels = kShadowsAhead ? kMaxBlockPixels : kMaxPacketLanes;
@@ -211,13 +211,12 @@ private:
         // Blocks of pixels small enough to form one packet of coherent rays. Single rays go in
         // blocks of 8 too, traced one by one: their camera rays are then made 8 at a time, whose
         // square roots and divisions vectorise, and the block's bookkeeping is paid once.
-        // With shadow rays traced ahead, a block is two packets side by side, so that
-        // trace_camera_shadows fills its shadow packets from both (kMaxCameraShadowHits).
+        // With shadow rays traced ahead, a block is kCameraShadowPackets packets side by side, so
+        // that trace_camera_shadows fills its shadow packets from all of them.
         const int block_lanes = packet_width_ > 1 ? packet_width_ : 8;
         const int packet_w = block_lanes >= 16 ? 4 : (block_lanes >= 4 ? 2 : 1);
         const int block_h = block_lanes / packet_w;
-        const int block_w = kShadowsAhead ? 2 * packet_w : packet_w;
-        static_assert(kMaxBlockPixels >= kMaxCameraShadowHits, "a block holds two packets");
+        const int block_w = kShadowsAhead ? kCameraShadowPackets * packet_w : packet_w;
         const Camera& camera = camera_;
         const bool pixel_centres = spp_ == 1 && camera.lens_radius <= 0;
         if (pixel_centres) {
