@@ -817,7 +817,9 @@ void prepare_shadow_part(const Scene& scene, bool shading, const Ray* rays, cons
     part.rays = rays;
     part.hits = hits;
     part.shadows = shadows;
+    part.any_local = false;
     HitLanes& lanes = part.lanes;
+    lanes.count = 0;  // the caller reuses a part that had no hits
     for (int k = 0; k < count; ++k) {
         shadows[k] = CameraShadows{};
         if (!hits[k].is_hit()) continue;
