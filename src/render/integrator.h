@@ -41,6 +41,9 @@ struct RayCounts {
 /// renderer warns when a sample reaches it.
 constexpr uint32_t kMaxRaysPerSample = 1u << 16;
 
+/// The lights whose answers a CameraShadows keeps, a bit each: the first this many of a scene.
+constexpr size_t kMaxCameraShadowLights = 64;
+
 /// The answers to a camera hit's opaque shadow rays, found before shading by tracing them in a
 /// packet with those of the neighbouring pixels (trace_camera_shadows): bit i of `known` says light
 /// i's answer is here (it is not where shading needs no shadow ray), bit i of `blocked` what it is. Only the camera ray's own hit uses them, with
@@ -56,6 +59,7 @@ struct CameraShadows {
     bool shaded = false;
     Vec3f color;
 };
+static_assert(kMaxCameraShadowLights <= 64, "CameraShadows keeps a light's answer in a bit of a uint64_t");
 
 /// Everything a radiance function knows about the ray it is shading besides the ray itself.
 struct TraceContext {
@@ -128,7 +132,7 @@ constexpr int kCameraShadowPackets = 4;
 constexpr int kMaxCameraShadowHits = kCameraShadowPackets * kMaxPacketLanes;
 
 /// Shadow rays are coherent where camera rays are: from neighbouring hits towards one light. For
-/// each light (the first 64), traces the shadow rays of the hits among rays[0..count) (count <=
+/// each light (the first kMaxCameraShadowLights), traces the shadow rays of the hits among rays[0..count) (count <=
 /// kMaxCameraShadowHits) together, as packet any-hit queries of up to tracer.lanes() rays, from
 /// exactly the origins local shading would use and only where it would trace one, and writes each
 /// hit's answers to shadows[k]. The image is the same as with the rays traced one by one; the rays

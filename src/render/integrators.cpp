@@ -107,7 +107,7 @@ bool needs_shadow_ray(const Scene& scene, const Material& material, const Shadin
 // light_transmittance counts one. False when there is no such answer.
 bool prepared_transmittance(TraceContext& context, size_t light, Vec3f& transmittance) {
     const CameraShadows* prepared = context.depth == 0 ? context.camera_shadows : nullptr;
-    if (!prepared || light >= 64 || !((prepared->known >> light) & 1)) return false;
+    if (!prepared || light >= kMaxCameraShadowLights || !((prepared->known >> light) & 1)) return false;
     transmittance = Vec3f{1, 1, 1};
     if (!take_ray(context)) return true;
     ++context.counts->shadow;
@@ -794,9 +794,7 @@ namespace {
 // hits together, a step at a time (HitLanes), and the current light's terms between making its
 // rays and adding its share.
 struct ShadowPart {
-    const Ray* rays = nullptr;
-    const Hit* hits = nullptr;
-    CameraShadows* shadows = nullptr;
+    CameraShadows* shadows = nullptr;  // the part's pixels' answers
     HitLanes lanes;
     LaneVectors surface_normal;  // for shadows[k], as surface_at gives it
     // Every shadow ray of a hit leaves its point by the same distance; a black back face is unlit
@@ -814,8 +812,6 @@ struct ShadowPart {
 // Fills a part from rays[0..count) (count <= kMaxPacketLanes) up to the lights.
 void prepare_shadow_part(const Scene& scene, bool shading, const Ray* rays, const Hit* hits, int count,
                          CameraShadows* shadows, ShadowPart& part) {
-    part.rays = rays;
-    part.hits = hits;
     part.shadows = shadows;
     part.any_local = false;
     HitLanes& lanes = part.lanes;
@@ -854,7 +850,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
                           int count, CameraShadows* shadows) {
     RAYCAST_DCHECK(count <= kMaxCameraShadowHits);
     const Scene& scene = integrator.scene;
-    const bool shading = integrator.radiance == &whitted_radiance && scene.lights.size() <= 64;
+    const bool shading = integrator.radiance == &whitted_radiance && scene.lights.size() <= kMaxCameraShadowLights;
     constexpr int kMaxParts = kMaxCameraShadowHits / kMaxPacketLanes;
     ShadowPart parts[kMaxParts];
     int part_count = 0;
@@ -865,7 +861,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         if (part.lanes.count == 0) --part_count;  // nothing to trace or shade
     }
     if (part_count == 0) return;
-    const size_t lights = std::min<size_t>(scene.lights.size(), 64);
+    const size_t lights = std::min(scene.lights.size(), kMaxCameraShadowLights);
     for (size_t i = 0; i < lights; ++i) {
         // The light's shadow rays from every part, traced in as few packets as hold them: a
         // block's hits that face the light are often a third of it, and a packet costs its walk

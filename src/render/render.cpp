@@ -16,10 +16,6 @@ namespace raycast {
 
 namespace {
 
-// The pixels the render loop takes together: a packet's, or kCameraShadowPackets packets' where
-// shadow rays are traced ahead (see render_tile).
-constexpr int kMaxBlockPixels = kMaxCameraShadowHits;
-
 // Pixel (x, y) of the camera's full frame, y = 0 at the bottom, is pixel number y·width + x: the
 // seed of its samples, so a pixel is the same whatever tile, thread or crop renders it.
 uint32_t pixel_index(const Camera& camera, int x, int y) {
@@ -202,7 +198,7 @@ private:
     // copy: with one copy sized for two packets, the plain 1k render measured 2-3% slower.
     template <bool kShadowsAhead>
     void render_tile(int x_begin, int y_begin, int x_end, int y_end, WorkerState& worker) {
-        constexpr int kBlockPixels = kShadowsAhead ? kMaxBlockPixels : kMaxPacketLanes;
+        constexpr int kBlockPixels = kShadowsAhead ? kMaxCameraShadowHits : kMaxPacketLanes;  // a block's pixels
         const int tile_width = x_end - x_begin;
         take_rev_surface_counters();  // drop whatever this thread counted before it rendered
         const size_t tile_pixels = static_cast<size_t>(tile_width) * static_cast<size_t>(y_end - y_begin);
