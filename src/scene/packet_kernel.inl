@@ -456,7 +456,8 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
     // against the nearer hits found meanwhile. An any-hit walk's cull distances never change, so
     // it keeps the child and the lanes that entered it, less those blocked since.
     struct Pending {
-        uint32_t node, slot;  // any-hit: the child, and the lanes' bits
+        uint32_t ref;   // closest-hit: the parent node; any-hit: the child itself
+        uint32_t info;  // closest-hit: the child's slot in the parent; any-hit: the entered lanes' bits
     };
     Pending stack[kWideStackSize];
     int stack_size = 0;
@@ -517,18 +518,18 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
             if (stack_size == 0) return;
             const Pending next = stack[--stack_size];
             if (!kNearFirst) {
-                reached = mask_from_bits(next.slot) & r.live;
+                reached = mask_from_bits(next.info) & r.live;
                 if (any(reached)) {
-                    ref = next.node;
+                    ref = next.ref;
                     break;
                 }
                 continue;
             }
-            const WideBvhNode& parent = nodes[next.node];
+            const WideBvhNode& parent = nodes[next.ref];
             VF t_entry;
-            reached = child_hits<kTest>(parent, next.slot, r, octant, t_min, t_cull(), t_entry);
+            reached = child_hits<kTest>(parent, next.info, r, octant, t_min, t_cull(), t_entry);
             if (any(reached)) {
-                ref = parent.child[next.slot];
+                ref = parent.child[next.info];
                 break;
             }
         }
