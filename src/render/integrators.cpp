@@ -741,6 +741,9 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
     // trace_camera_shadows shaded it with them.
     const bool local = integrator.radiance == &whitted_radiance && (!shadow_rays || shadows);
     HitLanes lanes;
+    // Neighbouring hits are mostly on one material: its shades_locally is asked once per run.
+    const Material* last_material = nullptr;
+    bool last_shades_locally = false;
     for (int k = 0; k < count; ++k) {
         shaded[k] = false;
         if (!local) continue;
@@ -756,7 +759,11 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
             shaded[k] = true;
         } else {
             const Material& material = scene.materials[scene.instances[hits[k].object].material];
-            if (!shades_locally(scene, material)) continue;
+            if (&material != last_material) {
+                last_material = &material;
+                last_shades_locally = shades_locally(scene, material);
+            }
+            if (!last_shades_locally) continue;
             const int j = lanes.count++;
             lanes.lane[j] = k;
             lanes.material[j] = &material;

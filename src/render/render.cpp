@@ -276,20 +276,27 @@ private:
                                                   std::min(kMaxPacketLanes, count - first),
                                                   kShadowsAhead ? shadows + first : nullptr, worker.counts,
                                                   local_colors + first, shaded + first);
+                    // Counted in locals, added once per block: worker.counts escapes to the
+                    // shading calls below, so counting there would read and write memory per pixel.
+                    uint64_t block_hits = 0, block_nodes = 0;
                     for (int k = 0; k < count; ++k) {
-                        RayCounts& counts = worker.counts;
-                        counts.primary += 1;
-                        counts.primary_hits += hits[k].is_hit() ? 1 : 0;
-                        counts.nodes_visited += nodes[k];
-                        const uint32_t index = pixel_index(camera, camera_x[k], camera_y[k]);
+                        block_hits += hits[k].is_hit() ? 1 : 0;
+                        block_nodes += nodes[k];
+                    }
+                    RayCounts& counts = worker.counts;
+                    counts.primary += static_cast<uint64_t>(count);
+                    counts.primary_hits += block_hits;
+                    counts.nodes_visited += block_nodes;
+                    for (int k = 0; k < count; ++k) {
                         const Vec3f color =
                             shaded[k] ? local_colors[k]
-                                      : shade_camera_sample(integrator_, index, s, rays[k], hits[k], nodes[k], counts,
-                                                            nullptr, kShadowsAhead ? &shadows[k] : nullptr, &tracer_);
+                                      : shade_camera_sample(integrator_, pixel_index(camera, camera_x[k], camera_y[k]),
+                                                            s, rays[k], hits[k], nodes[k], counts, nullptr,
+                                                            kShadowsAhead ? &shadows[k] : nullptr, &tracer_);
                         colors[k] = s == 0 ? color : colors[k] + color;
                         if (targets_.normal_bytes) {
-                            const Vec3f normal =
-                                shade_camera_sample(normals_, index, s, rays[k], hits[k], nodes[k], counts, nullptr);
+                            const Vec3f normal = shade_camera_sample(normals_, pixel_index(camera, camera_x[k], camera_y[k]),
+                                                                     s, rays[k], hits[k], nodes[k], counts, nullptr);
                             normals[k] = s == 0 ? normal : normals[k] + normal;
                         }
                         if (targets_.depths && hits[k].is_hit()) {
