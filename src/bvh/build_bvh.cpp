@@ -750,4 +750,18 @@ WideBvh collapse_bvh(const Bvh& binary) {
     return wide;
 }
 
+float median_leaf_size(const WideBvh& bvh) {
+    std::vector<float> sizes;
+    for (const WideBvhNode& node : bvh.nodes)
+        for (uint32_t slot = 0; slot < node.child_count; ++slot) {
+            if (!is_wide_leaf(node.child[slot])) continue;
+            const Vec3f extent = child_bounds(node, slot).extent();
+            sizes.push_back(std::max(extent.x, std::max(extent.y, extent.z)));
+        }
+    if (sizes.empty()) return 0;
+    const auto middle = sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2);
+    std::nth_element(sizes.begin(), middle, sizes.end());
+    return *middle;
+}
+
 }  // namespace raycast

@@ -66,4 +66,9 @@ WideBvh build_wide_bvh(std::vector<BvhPrimitive> primitives, const BvhBuildOptio
 /// with the largest surface area until kWideBvhWidth children are reached or only leaves are left.
 WideBvh collapse_bvh(const Bvh& binary);
 
+/// The median of the leaves' sizes, a leaf's size being its box's largest side (of an even
+/// count, the upper of the two middle ones); 0 for an empty tree. How big a typical leaf is: a
+/// packet tracer compares it with how far apart its rays lie.
+float median_leaf_size(const WideBvh& bvh);
+
 }  // namespace raycast

@@ -141,6 +141,34 @@ TEST(WideBvh, OneLeafGetsARootNodeWithOneChild) {
     check_wide_tree(bvh, prims, 4, true);
 }
 
+// Sets child `slot` of `node` to `child` with the box [lower, upper].
+void set_child(WideBvhNode& node, uint32_t slot, uint32_t child, Vec3f lower, Vec3f upper) {
+    node.child[slot] = child;
+    for (int axis = 0; axis < 3; ++axis) {
+        node.bounds[axis][0][slot] = lower[axis];
+        node.bounds[axis][1][slot] = upper[axis];
+    }
+    node.child_count = std::max(node.child_count, slot + 1);
+}
+
+TEST(WideBvh, MedianLeafSizeIsTheMiddleOfTheLeavesLargestSides) {
+    EXPECT_EQ(median_leaf_size(WideBvh{}), 0.0f);
+    // Leaves of largest sides 1 (x), 2 (y) and 5 (z) under the root, 3 and 4 under an inner child;
+    // the inner child's own box (side 9) is not a leaf's.
+    WideBvh bvh;
+    bvh.nodes.resize(2);
+    set_child(bvh.nodes[0], 0, kWideLeafFlag | 0, {0, 0, 0}, {1, 0.5f, 0.25f});
+    set_child(bvh.nodes[0], 1, kWideLeafFlag | 1, {-1, -1, -1}, {-0.5f, 1, -0.5f});
+    set_child(bvh.nodes[0], 2, 1, {0, 0, 0}, {9, 9, 9});
+    set_child(bvh.nodes[0], 3, kWideLeafFlag | 2, {2, 2, -3}, {2, 2, 2});
+    set_child(bvh.nodes[1], 0, kWideLeafFlag | 3, {0, 0, 0}, {3, 1, 1});
+    set_child(bvh.nodes[1], 1, kWideLeafFlag | 4, {4, 0, 0}, {5, 4, 0});
+    EXPECT_EQ(median_leaf_size(bvh), 3.0f);
+    // An even count: the upper of the two middle sizes (3 and 4 of 1, 2, 3, 4, 5, 6).
+    set_child(bvh.nodes[1], 2, kWideLeafFlag | 5, {0, 0, 0}, {0, 6, 0});
+    EXPECT_EQ(median_leaf_size(bvh), 4.0f);
+}
+
 TEST(WideBvh, InvariantsHoldAndTheLeavesAreTheBinaryTreesForManyInputs) {
     std::mt19937 rng(41);
     struct Config {

@@ -115,7 +115,11 @@ PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa) : scene_(scene), i
     RAYCAST_CHECK(packet_isa_available(isa));
     meshes_.reserve(scene.meshes.size());
     for (const MeshShape& mesh : scene.meshes)
-        meshes_.push_back({mesh.bvh.empty() ? nullptr : mesh.bvh.nodes.data(), mesh.groups.data()});
+        meshes_.push_back({mesh.bvh.empty() ? nullptr : mesh.bvh.nodes.data(),
+                           mesh.groups.data(),
+                           mesh.leaf_size,
+                           {mesh.bounds.lower.x, mesh.bounds.lower.y, mesh.bounds.lower.z},
+                           {mesh.bounds.upper.x, mesh.bounds.upper.y, mesh.bounds.upper.z}});
     view_.scene = &scene;
     view_.instances = scene.instances.data();
     view_.object_from_world = scene.object_from_world.data();

@@ -476,5 +476,65 @@ TEST(PacketIntersect, RaysThatGoOneWayGetTheirSingleRayHitsAndAnyHits) {
     EXPECT_LT(blocked_count, total);
 }
 
+// A packet from one origin is walked as a frustum unless its rays lie farther apart, where they
+// reach the mesh's box, than kFrustumMaxFootprint of the mesh's leaves (a small image of a fine
+// mesh); then each lane tests the boxes itself. Camera packets on both sides of that line: each
+// lane gets exactly its single-ray hit.
+TEST(PacketIntersect, CameraPacketsNarrowOrWideAgainstTheLeavesGetTheirSingleRayHits) {
+    std::mt19937 rng(58);
+    std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
+    SceneDesc desc = scene_desc();
+    desc.root->children.push_back(mesh_object(add_mesh(desc, grid_mesh(rng, 48, 0.3f))));
+    const Scene scene = build(std::move(desc));
+    const MeshShape& mesh = scene.meshes[0];
+    ASSERT_GT(mesh.leaf_size, 0.5f);  // leaves of up to 8 triangles of a grid of unit squares
+    ASSERT_LT(mesh.leaf_size, 4.0f);
+    int narrow = 0, wide = 0, packets = 0, hit_count = 0, total = 0;
+    for (PacketIsa isa : packet_isas()) {
+        const PacketTracer tracer(scene, isa);
+        for (int packet = 0; packet < 300; ++packet, ++packets) {
+            const int count = tracer.lanes();
+            const Vec3f origin{4 + 16 * u01(rng), 4 + 16 * u01(rng), 4 + 20 * u01(rng)};
+            // Down z, up x and y in every lane: the rays go one way, as a frustum needs.
+            const Vec3f centre{0.7f + 0.6f * u01(rng), 0.7f + 0.6f * u01(rng), -1};
+            // Half the packets a pixel's width apart at most, half up to a small image's 4 pixels.
+            const float spread = packet % 2 ? std::pow(10.0f, -4 + 2 * u01(rng)) : 0.1f + 0.55f * u01(rng);
+            Ray rays[kMaxPacketLanes];
+            float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+            for (int k = 0; k < count; ++k) {
+                rays[k] = {origin, normalize(centre + Vec3f{u(rng), u(rng), 0} * spread)};
+                for (int axis = 0; axis < 3; ++axis) {
+                    lo[axis] = std::min(lo[axis], rays[k].direction[axis]);
+                    hi[axis] = std::max(hi[axis], rays[k].direction[axis]);
+                }
+            }
+            // The kernel's rule, for unit directions: the distance to the box times the widest
+            // range of a component.
+            const float widest = std::max(hi[0] - lo[0], std::max(hi[1] - lo[1], hi[2] - lo[2]));
+            const Vec3f nearest = max(mesh.bounds.lower, min(origin, mesh.bounds.upper));
+            (length(origin - nearest) * widest > kFrustumMaxFootprint * mesh.leaf_size ? wide : narrow) += 1;
+            Hit hits[kMaxPacketLanes];
+            tracer.intersect(rays, count, 0, hits);
+            for (int k = 0; k < count; ++k) {
+                Hit expected;
+                intersect(scene, rays[k], 0, expected);
+                ++total;
+                ASSERT_EQ(hits[k].is_hit(), expected.is_hit()) << packet_isa_name(isa) << ", " << describe(rays[k], 0);
+                if (!expected.is_hit()) continue;
+                ++hit_count;
+                ASSERT_EQ(bits_of(hits[k].t), bits_of(expected.t)) << packet_isa_name(isa) << ", " << describe(rays[k], 0);
+                ASSERT_EQ(hits[k].prim, expected.prim);
+                ASSERT_EQ(hits[k].leaf, expected.leaf);
+                ASSERT_EQ(hits[k].lane, expected.lane);
+                ASSERT_EQ(bits_of(hits[k].u), bits_of(expected.u));
+                ASSERT_EQ(bits_of(hits[k].v), bits_of(expected.v));
+            }
+        }
+    }
+    EXPECT_GT(narrow, packets / 4) << "leaf size " << mesh.leaf_size;
+    EXPECT_GT(wide, packets / 10) << "leaf size " << mesh.leaf_size;
+    EXPECT_GT(hit_count, total / 2);
+}
+
 }  // namespace
 }  // namespace raycast

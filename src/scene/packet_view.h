@@ -20,7 +20,15 @@ namespace raycast {
 struct MeshView {
     const WideBvhNode* nodes = nullptr;  ///< nullptr for a mesh with nothing to hit
     const GroupBlock* groups = nullptr;
+    float leaf_size = 0;                 ///< MeshShape::leaf_size
+    float lower[3] = {}, upper[3] = {};  ///< the root's box (MeshShape::bounds)
 };
+
+/// A packet of rays from one origin is walked through a mesh as a frustum (one test for a node's
+/// children, for every ray) unless its rays lie farther apart where they reach the mesh's box
+/// than this many leaves (MeshView::leaf_size): then the frustum would pass many leaves that few
+/// of its rays enter, and each ray's own box tests, lane by lane, do less work.
+constexpr float kFrustumMaxFootprint = 2.0f;
 
 struct PacketSceneView {
     const Scene* scene = nullptr;

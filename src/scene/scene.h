@@ -33,6 +33,9 @@ struct MeshShape {
     LargeVector<GroupBlock> groups;  ///< followed by kGroupPaddingBlocks of padding
     Bounds3f bounds;
     size_t triangle_count = 0;  ///< as the file gave them, degenerate ones included
+    /// The median of the leaves' sizes (a leaf box's largest side): how far apart rays may lie
+    /// before a packet's frustum passes more leaves than its rays enter (packet_kernel.inl).
+    float leaf_size = 0;
 };
 
 struct TriangleShape {
