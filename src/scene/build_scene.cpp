@@ -392,12 +392,12 @@ MeshShape build_mesh_shape(TriangleMesh mesh, int threads) {
     }
     shape.groups = build_triangle_groups(mesh, shape.bvh, threads);
     if (!shape.bvh.empty()) shape.bounds = shape.bvh.bounds;
-    shape.leaf_size = median_leaf_size(shape.bvh);
     // Every triangle's corners and id are in its group now: what remains is for smooth normals.
     std::vector<uint32_t>().swap(shape.bvh.prim_order);
     std::vector<Vec3f>().swap(mesh.positions);
     std::vector<uint32_t>().swap(mesh.indices);
     shape.mesh = std::move(mesh);
+    shape.leaf_size = median_leaf_size(shape.bvh);  // after the frees: it needs a float per leaf
     return shape;
 }
 
