@@ -345,19 +345,23 @@ struct PacketFrustum {
 inline float max_of_lanes(VF v, VM live) { return hmax(select(live, v, splat(-__builtin_inff()))); }
 inline float min_of_lanes(VF v, VM live) { return hmin(select(live, v, splat(__builtin_inff()))); }
 
-// Whether the live lanes share one origin (a pinhole camera's rays).
+// Whether the live lanes share one origin (a pinhole camera's rays): each equals the first live
+// lane's (a NaN equals nothing).
 inline bool one_origin(const PacketRays& r) {
-    return min_of_lanes(r.ox, r.live) == max_of_lanes(r.ox, r.live) &&
-           min_of_lanes(r.oy, r.live) == max_of_lanes(r.oy, r.live) &&
-           min_of_lanes(r.oz, r.live) == max_of_lanes(r.oz, r.live);
+    const unsigned first = lowest_bit(bits(r.live));
+    const VM differ = (r.ox != splat(lane_value(r.ox, first))) | (r.oy != splat(lane_value(r.oy, first))) |
+                      (r.oz != splat(lane_value(r.oz, first)));
+    return !any(differ & r.live);
 }
 
+// For a packet of one origin (one_origin). The near and far inverses are the inverse times
+// kInverseShrink and kInverseGrow (prepare_inverses), and a product with a positive constant
+// rounds monotonically, so their ranges are the inverse's range times those constants, exactly.
 inline PacketFrustum make_frustum(const PacketRays& r, const SameOctant& octant) {
     const VM live = r.live;
     PacketFrustum f;
     const VF* origin[3] = {&r.ox, &r.oy, &r.oz};
-    const VF* near_inverse[3] = {&r.near_ix, &r.near_iy, &r.near_iz};
-    const VF* far_inverse[3] = {&r.far_ix, &r.far_iy, &r.far_iz};
+    const VF* inverse[3] = {&r.ix, &r.iy, &r.iz};
     const VF* direction[3] = {&r.dx, &r.dy, &r.dz};
     const unsigned some_lane = lowest_bit(bits(live));
     float widest = 0, length_squared = 0;
@@ -370,12 +374,12 @@ inline PacketFrustum make_frustum(const PacketRays& r, const SameOctant& octant)
     f.spread = widest / __builtin_sqrtf(length_squared);
     for (int axis = 0; axis < 3; ++axis) {
         f.near[axis] = octant.near[axis];
-        f.o_lo[axis] = min_of_lanes(*origin[axis], live);
-        f.o_hi[axis] = max_of_lanes(*origin[axis], live);
-        f.near_lo[axis] = min_of_lanes(*near_inverse[axis], live);
-        f.near_hi[axis] = max_of_lanes(*near_inverse[axis], live);
-        f.far_lo[axis] = min_of_lanes(*far_inverse[axis], live);
-        f.far_hi[axis] = max_of_lanes(*far_inverse[axis], live);
+        f.o_lo[axis] = f.o_hi[axis] = lane_value(*origin[axis], some_lane);
+        const float lo = min_of_lanes(*inverse[axis], live), hi = max_of_lanes(*inverse[axis], live);
+        f.near_lo[axis] = lo * kInverseShrink;
+        f.near_hi[axis] = hi * kInverseShrink;
+        f.far_lo[axis] = lo * kInverseGrow;
+        f.far_hi[axis] = hi * kInverseGrow;
     }
     return f;
 }
