@@ -900,6 +900,15 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
                 }
                 const MeshView& mesh = view.meshes[instance.shape];
                 if (!mesh.nodes) continue;
+                if (instance.transform == kNoTransformIndex && coherent(r)) {
+                    // The packet as it is, without the copy below, when one permutation serves
+                    // all its rays (nearly always).
+                    AxisSet sets[6];
+                    if (axis_sets(r, sets) == 1) {
+                        intersect_mesh_packet(s, r, make_watertight_packet(r, sets[0]), mesh, id);
+                        continue;
+                    }
+                }
                 PacketRays local = instance.transform == kNoTransformIndex
                                        ? r
                                        : transform_packet(r, view.object_from_world[instance.transform]);
@@ -947,11 +956,14 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
             } else if (instance.kind != ShapeKind::Mesh) {
                 occluded_lanes(id);
             } else if (view.meshes[instance.shape].nodes) {
-                PacketRays local = instance.transform == kNoTransformIndex
-                                       ? r
-                                       : transform_packet(r, view.object_from_world[instance.transform]);
-                occluded_mesh_packet(local, view.meshes[instance.shape], t_min, t_max_v, t_cull, blocked);
-                r.live = local.live;  // less the lanes it blocked
+                const MeshView& mesh = view.meshes[instance.shape];
+                if (instance.transform == kNoTransformIndex) {  // the packet as it is, no copy
+                    occluded_mesh_packet(r, mesh, t_min, t_max_v, t_cull, blocked);
+                } else {
+                    PacketRays local = transform_packet(r, view.object_from_world[instance.transform]);
+                    occluded_mesh_packet(local, mesh, t_min, t_max_v, t_cull, blocked);
+                    r.live = local.live;  // less the lanes it blocked
+                }
             }
             if (!any(r.live)) return true;
         }
