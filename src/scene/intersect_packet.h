@@ -34,8 +34,9 @@ bool packet_isa_available(PacketIsa isa);
 PacketIsa best_packet_isa();
 /// Rays per packet: 16, 8, 4, or 1 for None.
 int packet_isa_lanes(PacketIsa isa);
-/// The single-ray kernel for meshes of an available instruction set (AVX-512 CPUs run the AVX2
-/// one; None gives the portable one). intersect() and occluded() use best_packet_isa()'s.
+/// The single-ray kernel for meshes of an available instruction set (AVX-512's is the AVX2 code
+/// with AVX-512VL's permutes, or the AVX2 one on a CPU without VL; None gives the portable one).
+/// intersect() and occluded() use best_packet_isa()'s.
 const MeshRayKernel& mesh_ray_kernel(PacketIsa isa);
 
 /// surface_at's SurfacePoint for several hits, a lane each.

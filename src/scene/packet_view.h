@@ -110,6 +110,9 @@ RAYCAST_DECLARE_RAY_KERNEL
 namespace ray_avx2 {
 RAYCAST_DECLARE_RAY_KERNEL
 }
+namespace ray_avx512 {
+RAYCAST_DECLARE_RAY_KERNEL
+}
 #undef RAYCAST_DECLARE_RAY_KERNEL
 
 }  // namespace raycast

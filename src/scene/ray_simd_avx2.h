@@ -22,11 +22,16 @@ inline I8 load_bytes(const unsigned char* p) {
 }
 // table[index[i] mod 8] in lane i.
 inline F8 lookup(F8 table, I8 index) { return {_mm256_permutevar8x32_ps(table.v, index.v)}; }
-// (low, high)[index[i] mod 16] in lane i: bit 3 of the index picks the register.
+// (low, high)[index[i] mod 16] in lane i: bit 3 of the index picks the register. With AVX-512VL
+// (ray_avx512.cpp) one two-table permute; with AVX2 two permutes and a blend.
 inline F8 lookup(F8 low, F8 high, I8 index) {
+#ifdef __AVX512VL__
+    return {_mm256_permutex2var_ps(low.v, index.v, high.v)};
+#else
     const __m256 from_high = _mm256_castsi256_ps(_mm256_slli_epi32(index.v, 28));
     return {_mm256_blendv_ps(_mm256_permutevar8x32_ps(low.v, index.v), _mm256_permutevar8x32_ps(high.v, index.v),
                              from_high)};
+#endif
 }
 
 // The node test's width: one register per bound of a node's children (nodes are 64-byte
