@@ -86,7 +86,7 @@ const MeshRayKernel& mesh_ray_kernel(PacketIsa isa) {
     static const MeshRayKernel sse2{&ray_sse2::intersect, &ray_sse2::occluded, &ray_sse2::test_group};
     if (isa == PacketIsa::Sse2) return sse2;
 #endif
-#ifdef RAYCAST_HAVE_AVX512_KERNEL
+#ifdef RAYCAST_HAVE_AVX512_RAY_KERNEL
     // The AVX2 kernel's 8-lane code (a node has 8 children, one AVX register per bound) with
     // AVX-512VL's two-register permute.
     static const MeshRayKernel avx512{&ray_avx512::intersect, &ray_avx512::occluded, &ray_avx512::test_group};
