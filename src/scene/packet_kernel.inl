@@ -322,17 +322,18 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
 // each node's eight child boxes are tested at once, in one 8-lane register (wide8, the TU's
 // 8-lane wrapper), against bounds on what every ray's own slab test (SlabTest::SameOctant)
 // computes.
-// Float subtraction and multiplication are monotonic, so (bound - o) * inverse over the lanes'
-// origins and inverses is least and greatest at a corner of those ranges, rounding included:
-// the frustum's entry is at most any ray's, its exit at least any ray's, and a box that any ray
+// The rays share one origin, and float multiplication is monotonic, so (bound - o) * inverse over
+// the lanes' inverses is least and greatest at an end of their range, rounding included: the
+// frustum's entry is at most any ray's, its exit at least any ray's, and a box that any ray
 // enters passes (with a few that none enters; the triangles, tested in every lane, decide). For a
-// block of pinhole camera rays (one origin, directions a pixel apart) the ranges are narrow and a
-// node costs one test instead of eight. Only those use it: where the origins spread too, the
-// corners bound far more than any ray reaches (a thin lens's rays at 1M triangles rendered 7x
-// slower, shadow packets on bench/ray_tracing.sh's glass scene 3x), and the lanes' own tests win.
+// block of pinhole camera rays (directions a pixel apart) the range is narrow and a node costs
+// one test instead of eight. Only packets of one origin use it: where the origins spread too, the
+// bounds (over the origins' range as well) reach far more than any ray does (a thin lens's rays
+// at 1M triangles rendered 7x slower, shadow packets on bench/ray_tracing.sh's glass scene 3x),
+// and the lanes' own tests win.
 struct PacketFrustum {
     int near[3];                     // which bound is near, per axis (SameOctant)
-    float o_lo[3], o_hi[3];          // the origin components' range over the live lanes
+    float origin[3];                 // every live lane's
     float near_lo[3], near_hi[3];    // the near bounds' inverses (near_ix and so on)
     float far_lo[3], far_hi[3];      // the far bounds'
     // How far apart the rays' directions lie: the widest range of a component over the live
@@ -374,7 +375,7 @@ inline PacketFrustum make_frustum(const PacketRays& r, const SameOctant& octant)
     f.spread = widest / __builtin_sqrtf(length_squared);
     for (int axis = 0; axis < 3; ++axis) {
         f.near[axis] = octant.near[axis];
-        f.o_lo[axis] = f.o_hi[axis] = lane_value(*origin[axis], some_lane);
+        f.origin[axis] = lane_value(*origin[axis], some_lane);
         const float lo = min_of_lanes(*inverse[axis], live), hi = max_of_lanes(*inverse[axis], live);
         f.near_lo[axis] = lo * kInverseShrink;
         f.near_hi[axis] = hi * kInverseShrink;
@@ -392,14 +393,11 @@ inline unsigned frustum_children(const WideBvhNode& node, const PacketFrustum& f
     using wide8::vmin;
     wide8::VF entry = splat(t_min), exit = splat(cull);
     for (int axis = 0; axis < 3; ++axis) {
-        const wide8::VF near_bound = wide8::load(node.bounds[axis][f.near[axis]]);
-        const wide8::VF far_bound = wide8::load(node.bounds[axis][1 - f.near[axis]]);
-        const wide8::VF near_lo = near_bound - splat(f.o_hi[axis]), near_hi = near_bound - splat(f.o_lo[axis]);
-        const wide8::VF i_lo = splat(f.near_lo[axis]), i_hi = splat(f.near_hi[axis]);
-        entry = vmax(entry, vmin(vmin(near_lo * i_lo, near_lo * i_hi), vmin(near_hi * i_lo, near_hi * i_hi)));
-        const wide8::VF far_lo = far_bound - splat(f.o_hi[axis]), far_hi = far_bound - splat(f.o_lo[axis]);
-        const wide8::VF j_lo = splat(f.far_lo[axis]), j_hi = splat(f.far_hi[axis]);
-        exit = vmin(exit, vmax(vmax(far_lo * j_lo, far_lo * j_hi), vmax(far_hi * j_lo, far_hi * j_hi)));
+        const wide8::VF o = splat(f.origin[axis]);
+        const wide8::VF to_near = wide8::load(node.bounds[axis][f.near[axis]]) - o;
+        const wide8::VF to_far = wide8::load(node.bounds[axis][1 - f.near[axis]]) - o;
+        entry = vmax(entry, vmin(to_near * splat(f.near_lo[axis]), to_near * splat(f.near_hi[axis])));
+        exit = vmin(exit, vmax(to_far * splat(f.far_lo[axis]), to_far * splat(f.far_hi[axis])));
     }
     t_entry = entry;
     return wide8::bits(entry <= exit);
@@ -415,7 +413,7 @@ inline unsigned frustum_children(const WideBvhNode& node, const PacketFrustum& f
 inline bool frustum_too_wide(const PacketFrustum& f, const MeshView& mesh) {
     float distance_squared = 0;
     for (int axis = 0; axis < 3; ++axis) {
-        const float o = f.o_lo[axis];  // one origin
+        const float o = f.origin[axis];
         const float outside = o < mesh.lower[axis] ? mesh.lower[axis] - o : (o > mesh.upper[axis] ? o - mesh.upper[axis] : 0);
         distance_squared += outside * outside;
     }
