@@ -1,14 +1,18 @@
 #include "base/parallel.h"
 
 #include <pthread.h>
+#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <stdexcept>
 #include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <cstring>
 #include <exception>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -16,31 +20,147 @@ namespace raycast {
 
 int hardware_threads() { return std::max(1u, std::thread::hardware_concurrency()); }
 
-void parallel_for(size_t count, int threads, const std::function<void(size_t, int)>& work) {
-    const int worker_count = static_cast<int>(std::min<size_t>(std::max(1, threads), std::max<size_t>(count, 1)));
+namespace {
+
+// Lets a sibling hardware thread run while this one waits in a loop.
+inline void spin_pause() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#else
+    std::this_thread::yield();
+#endif
+}
+
+// The items of one parallel_for call, shared by the threads that work on it.
+struct Job {
+    const std::function<void(size_t, int)>* work = nullptr;
+    size_t count = 0;
     std::atomic<size_t> next{0};
     std::atomic<bool> failed{false};
     std::exception_ptr first_error;
     std::mutex error_mutex;
-    auto run = [&](int worker) {
+
+    // Claims items one at a time until none is left or one has failed.
+    void run(int worker) {
         for (;;) {
             const size_t item = next.fetch_add(1);
             if (item >= count || failed.load()) return;
             try {
-                work(item, worker);
+                (*work)(item, worker);
             } catch (...) {
                 std::lock_guard<std::mutex> lock(error_mutex);
                 if (!first_error) first_error = std::current_exception();
                 failed = true;
             }
         }
-    };
-    std::vector<std::thread> helpers;
-    helpers.reserve(static_cast<size_t>(worker_count - 1));
-    for (int worker = 1; worker < worker_count; ++worker) helpers.emplace_back(run, worker);
-    run(0);
-    for (std::thread& helper : helpers) helper.join();
-    if (first_error) std::rethrow_exception(first_error);
+    }
+};
+
+// Helper threads that outlive a call, as pbrt-v4's ThreadPool and Embree's task scheduler keep
+// theirs. Starting a thread per call cost little in itself (about 15 us), but on the virtual
+// machine this is measured on, a new thread often began 0.5-4 ms after it was made: its
+// processor had gone idle and took that long to wake, on a 25 ms render up to 15%. A helper that
+// has finished a job waits for the next one awake for a while (kStayAwake, pausing between looks
+// so that a sibling hardware thread loses little), then sleeps until one comes: the load's,
+// build's and render's calls mostly follow each other within that time. Starting the helpers
+// before the scene file is read, to have them awake sooner still, made small scenes' load and
+// build slower (docs/performance.md).
+class HelperPool {
+public:
+    // Made on first use and never destroyed: at exit its helpers are asleep or waiting, and end
+    // with the process (joining them would need a way to stop one mid-job).
+    static HelperPool& instance() {
+        static HelperPool* pool = new HelperPool;
+        return *pool;
+    }
+
+    // Runs `job` on the caller (worker 0) and `helpers` helper threads (workers 1..helpers), and
+    // returns true when done; false, at once, when the pool is running another job (a call from
+    // another thread, or from inside a job), for the caller to do it some other way.
+    bool try_run(Job& job, int helpers) {
+        // A child of fork() (a death test's) has none of its parent's helpers.
+        if (getpid() != owner_) return false;
+        std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
+        if (!busy.owns_lock()) return false;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            while (static_cast<int>(threads_.size()) < helpers) {
+                const int index = static_cast<int>(threads_.size());
+                threads_.emplace_back([this, index] { helper_main(index); });
+            }
+            job_ = &job;
+            job_helpers_ = helpers;
+            unfinished_.store(helpers);
+            generation_.store(generation_.load() + 1, std::memory_order_release);
+        }
+        wake_.notify_all();
+        job.run(0);
+        // The helpers finish their last items at about the time the caller does.
+        while (unfinished_.load(std::memory_order_acquire) != 0) std::this_thread::yield();
+        return true;
+    }
+
+private:
+    static constexpr std::chrono::milliseconds kStayAwake{20};
+
+    void helper_main(int index) {
+        uint64_t seen = 0;
+        for (;;) {
+            // Awake for a while, then asleep, until a new generation (a job, or the end).
+            const auto awake_until = std::chrono::steady_clock::now() + kStayAwake;
+            while (generation_.load(std::memory_order_acquire) == seen &&
+                   std::chrono::steady_clock::now() < awake_until)
+                for (int i = 0; i < 64; ++i) spin_pause();
+            Job* job;
+            bool joins;
+            {
+                std::unique_lock<std::mutex> lock(mutex_);
+                wake_.wait(lock, [&] { return generation_.load() != seen; });
+                // Read with the generation, under the lock: a job posted after it cannot be
+                // mistaken for this one.
+                seen = generation_.load();
+                job = job_;
+                joins = index < job_helpers_;
+            }
+            if (!joins) continue;
+            job->run(index + 1);
+            unfinished_.fetch_sub(1, std::memory_order_acq_rel);
+        }
+    }
+
+    std::mutex busy_;  // held by the caller for a whole job
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::atomic<uint64_t> generation_{0};
+    Job* job_ = nullptr;
+    int job_helpers_ = 0;
+    const pid_t owner_ = getpid();
+    std::atomic<int> unfinished_{0};  // helpers of the current job still working on it
+    std::vector<std::thread> threads_;
+};
+
+// parallel_for without the pool: threads made for this call.
+void run_on_new_threads(Job& job, int helpers) {
+    std::vector<std::thread> threads;
+    threads.reserve(static_cast<size_t>(helpers));
+    for (int worker = 1; worker <= helpers; ++worker) threads.emplace_back([&job, worker] { job.run(worker); });
+    job.run(0);
+    for (std::thread& thread : threads) thread.join();
+}
+
+}  // namespace
+
+void parallel_for(size_t count, int threads, const std::function<void(size_t, int)>& work) {
+    const int worker_count = static_cast<int>(std::min<size_t>(std::max(1, threads), std::max<size_t>(count, 1)));
+    Job job;
+    job.work = &work;
+    job.count = count;
+    const int helpers = worker_count - 1;
+    if (helpers == 0)
+        job.run(0);
+    else if (!HelperPool::instance().try_run(job, helpers))
+        run_on_new_threads(job, helpers);
+    if (job.first_error) std::rethrow_exception(job.first_error);
 }
 
 void call_with_stack(size_t stack_bytes, const std::function<void()>& work) {

@@ -1,5 +1,6 @@
 // Work sharing over std::thread: items are claimed one at a time from an atomic counter, so
-// the caller decides the grain (a tile, a chunk of a file). No global pool, no TBB.
+// the caller decides the grain (a tile, a chunk of a file). The threads that help the caller are
+// kept from one call to the next (parallel.cpp says why); no TBB.
 #pragma once
 
 #include <cstddef>
@@ -12,7 +13,9 @@ int hardware_threads();
 
 /// Calls work(item, worker) for every item in [0, count) on up to `threads` threads (the caller's
 /// thread among them); worker is in [0, threads). Returns when all items are done. If a call
-/// throws, the remaining items are skipped and the first exception is rethrown here.
+/// throws, the remaining items are skipped and the first exception is rethrown here. Calls made
+/// at once from several threads, or from inside `work`, are safe: one at a time uses the kept
+/// helper threads, the others threads of their own.
 void parallel_for(size_t count, int threads, const std::function<void(size_t item, int worker)>& work);
 
 /// Runs `work` on a new thread with a stack of `stack_bytes` and waits for it; an exception it

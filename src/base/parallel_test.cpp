@@ -1,10 +1,14 @@
 // Tests for parallel_for (base/parallel.h), which the renderer (tiles), the OBJ loader (chunks)
 // and the BVH builder rely on: every item must be visited exactly once whatever the thread count,
-// worker numbers must stay in [0, threads), the work must really run on several threads, and an
-// exception thrown by one item must reach the caller instead of terminating the program.
+// worker numbers must stay in [0, threads), the work must really run on several threads, an
+// exception thrown by one item must reach the caller instead of terminating the program, and the
+// helper threads kept between calls must serve one call at a time and never be waited for where
+// they do not exist.
 #include "base/parallel.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -126,6 +130,74 @@ TEST(ParallelFor, WhenEveryTaskThrowsExactlyOneExceptionArrives) {
 
 TEST(ParallelFor, NonStandardExceptionTypesAreRethrownToo) {
     EXPECT_THROW(parallel_for(10, 3, [](size_t item, int) { if (item == 3) throw 42; }), int);
+}
+
+// The helper threads are kept: a second call runs on the threads of the first (parallel.cpp
+// keeps them because a new thread often started milliseconds late). Each thread counts the calls
+// it has worked on in a thread_local (thread ids are no proof: a new thread may reuse the id of
+// one that has ended).
+TEST(ParallelFor, KeepsItsHelperThreadsFromOneCallToTheNext) {
+    static thread_local int calls_seen = 0;
+    auto helpers_calls = [] {
+        std::mutex mutex;
+        std::multiset<int> seen;
+        const std::thread::id caller = std::this_thread::get_id();
+        // Items that wait for each other, so that every worker takes part, once.
+        std::atomic<int> started{0};
+        parallel_for(3, 3, [&](size_t, int) {
+            ++started;
+            const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+            while (started.load() < 3 && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+            std::lock_guard<std::mutex> lock(mutex);
+            if (std::this_thread::get_id() != caller) seen.insert(++calls_seen);
+        });
+        return seen;
+    };
+    const std::multiset<int> first = helpers_calls();
+    ASSERT_EQ(first.size(), 2u);
+    std::multiset<int> expected;
+    for (int calls : first) expected.insert(calls + 1);
+    EXPECT_EQ(helpers_calls(), expected);
+}
+
+// Only one call at a time uses the kept threads; another, from another thread or from inside
+// the work, gets threads of its own and must still see every item once.
+TEST(ParallelFor, CallsFromSeveralThreadsAndNestedCallsEachVisitEveryItemOnce) {
+    constexpr size_t kOuter = 8, kInner = 200;
+    auto nested = [&](std::vector<std::atomic<int>>& visits) {
+        parallel_for(kOuter, 3, [&](size_t outer, int) {
+            parallel_for(kInner, 2, [&](size_t inner, int) { ++visits[outer * kInner + inner]; });
+        });
+    };
+    std::vector<std::atomic<int>> a(kOuter * kInner), b(kOuter * kInner);
+    for (auto& v : a) v = 0;
+    for (auto& v : b) v = 0;
+    std::thread other([&] { nested(b); });
+    nested(a);
+    other.join();
+    for (size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a[i].load(), 1) << "item " << i;
+        ASSERT_EQ(b[i].load(), 1) << "item " << i;
+    }
+}
+
+// A child of fork() has only the thread that forked: the kept helpers are not there, and a call
+// must not wait for them. A call first, so that the parent has helpers when it forks.
+TEST(ParallelFor, WorksInAChildOfFork) {
+    parallel_for(10, 3, [](size_t, int) {});
+    const pid_t child = fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        alarm(30);  // a hang becomes a failure
+        std::atomic<size_t> sum{0};
+        parallel_for(1000, 3, [&](size_t item, int) { sum += item; });
+        _exit(sum.load() == 999 * 1000 / 2 ? 0 : 1);
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFEXITED(status)) << "the child was killed (signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0)
+                                   << ")";
+    EXPECT_EQ(WEXITSTATUS(status), 0);
 }
 
 }  // namespace
