@@ -1,6 +1,7 @@
 #include "base/parallel.h"
 
 #include <pthread.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <mutex>
@@ -21,15 +23,6 @@ namespace raycast {
 int hardware_threads() { return std::max(1u, std::thread::hardware_concurrency()); }
 
 namespace {
-
-// Lets a sibling hardware thread run while this one waits in a loop.
-inline void spin_pause() {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#else
-    std::this_thread::yield();
-#endif
-}
 
 // The items of one parallel_for call, shared by the threads that work on it.
 struct Job {
@@ -60,17 +53,22 @@ struct Job {
 // theirs. Starting a thread per call cost little in itself (about 15 us), but on the virtual
 // machine this is measured on, a new thread often began 0.5-4 ms after it was made: its
 // processor had gone idle and took that long to wake, on a 25 ms render up to 15%. A helper that
-// has finished a job waits for the next one awake for a while (kStayAwake, pausing between looks
-// so that a sibling hardware thread loses little), then sleeps until one comes: the load's,
-// build's and render's calls mostly follow each other within that time. Starting the helpers
-// before the scene file is read, to have them awake sooner still, made small scenes' load and
-// build slower (docs/performance.md).
+// has finished a job waits for the next one awake for a while (kStayAwake), then sleeps until one
+// comes: the load's, build's and render's calls mostly follow each other within that time. While
+// awake it yields its processor between looks rather than spinning on the `pause` instruction: a
+// loop of `pause` made the hypervisor take the processor away (a course scene's whole run went
+// from 3.4 to 7-10 ms). Starting the helpers before the scene file is read, to have them awake
+// sooner still, made small scenes' load and build slower (docs/performance.md).
 class HelperPool {
 public:
-    // Made on first use and never destroyed: at exit its helpers are asleep or waiting, and end
-    // with the process (joining them would need a way to stop one mid-job).
+    // Made on first use, never destroyed (a static's destructor could run while another
+    // thread's call uses it); its helpers are stopped at exit (stop_at_exit).
     static HelperPool& instance() {
-        static HelperPool* pool = new HelperPool;
+        static HelperPool* pool = [] {
+            HelperPool* made = new HelperPool;
+            std::atexit([] { instance().stop_at_exit(); });
+            return made;
+        }();
         return *pool;
     }
 
@@ -84,9 +82,23 @@ public:
         if (!busy.owns_lock()) return false;
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            while (static_cast<int>(threads_.size()) < helpers) {
-                const int index = static_cast<int>(threads_.size());
-                threads_.emplace_back([this, index] { helper_main(index); });
+            if (stopping_) return false;  // a call during exit, from another thread
+            if (static_cast<int>(threads_.size()) < helpers) {
+                // Helpers take no signals: a signal for the process (the viewer's Ctrl-C, which
+                // one thread waits for) must not land on a thread that happened to make them.
+                struct BlockAllSignals {
+                    sigset_t before;
+                    BlockAllSignals() {
+                        sigset_t all;
+                        sigfillset(&all);
+                        pthread_sigmask(SIG_SETMASK, &all, &before);
+                    }
+                    ~BlockAllSignals() { pthread_sigmask(SIG_SETMASK, &before, nullptr); }
+                } blocked;  // while the helpers are made: they inherit the mask
+                while (static_cast<int>(threads_.size()) < helpers) {
+                    const int index = static_cast<int>(threads_.size());
+                    threads_.emplace_back([this, index] { helper_main(index); });
+                }
             }
             job_ = &job;
             job_helpers_ = helpers;
@@ -103,6 +115,19 @@ public:
 private:
     static constexpr std::chrono::milliseconds kStayAwake{20};
 
+    // Ends the helpers and waits for them, so that a process ends with one thread.
+    void stop_at_exit() {
+        if (getpid() != owner_) return;  // a child of fork() has no helpers to stop
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stopping_ = true;
+            generation_.store(generation_.load() + 1, std::memory_order_release);
+        }
+        wake_.notify_all();
+        for (std::thread& thread : threads_) thread.join();
+        threads_.clear();
+    }
+
     void helper_main(int index) {
         uint64_t seen = 0;
         for (;;) {
@@ -110,12 +135,13 @@ private:
             const auto awake_until = std::chrono::steady_clock::now() + kStayAwake;
             while (generation_.load(std::memory_order_acquire) == seen &&
                    std::chrono::steady_clock::now() < awake_until)
-                for (int i = 0; i < 64; ++i) spin_pause();
+                std::this_thread::yield();
             Job* job;
             bool joins;
             {
                 std::unique_lock<std::mutex> lock(mutex_);
                 wake_.wait(lock, [&] { return generation_.load() != seen; });
+                if (stopping_) return;
                 // Read with the generation, under the lock: a job posted after it cannot be
                 // mistaken for this one.
                 seen = generation_.load();
@@ -135,6 +161,7 @@ private:
     Job* job_ = nullptr;
     int job_helpers_ = 0;
     const pid_t owner_ = getpid();
+    bool stopping_ = false;
     std::atomic<int> unfinished_{0};  // helpers of the current job still working on it
     std::vector<std::thread> threads_;
 };

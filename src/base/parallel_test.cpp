@@ -7,6 +7,8 @@
 #include "base/parallel.h"
 
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -179,6 +181,26 @@ TEST(ParallelFor, CallsFromSeveralThreadsAndNestedCallsEachVisitEveryItemOnce) {
         ASSERT_EQ(a[i].load(), 1) << "item " << i;
         ASSERT_EQ(b[i].load(), 1) << "item " << i;
     }
+}
+
+// A signal sent to the process must reach a thread that expects it (the viewer has one thread
+// wait for Ctrl-C, with the signal blocked everywhere else), never a kept helper made while it
+// was unblocked.
+TEST(ParallelFor, HelperThreadsTakeNoSignals) {
+    std::atomic<int> helpers_taking_sigint{0}, helper_items{0};
+    std::atomic<int> started{0};
+    parallel_for(2, 2, [&](size_t, int worker) {
+        ++started;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        while (started.load() < 2 && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+        if (worker == 0) return;
+        ++helper_items;
+        sigset_t mask;
+        pthread_sigmask(SIG_BLOCK, nullptr, &mask);
+        if (!sigismember(&mask, SIGINT)) ++helpers_taking_sigint;
+    });
+    EXPECT_EQ(helper_items.load(), 1);
+    EXPECT_EQ(helpers_taking_sigint.load(), 0);
 }
 
 // A child of fork() has only the thread that forked: the kept helpers are not there, and a call
