@@ -76,25 +76,17 @@ public:
     // returns true when done; false, at once, when the pool is running another job (a call from
     // another thread, or from inside a job), for the caller to do it some other way.
     bool try_run(Job& job, int helpers) {
-        // A child of fork() (a death test's) has none of its parent's helpers.
-        if (getpid() != owner_) return false;
+        // A child of fork() (a death test's) has none of its parent's helpers; a call from
+        // inside a job would find busy_ held by its own thread.
+        if (getpid() != owner_ || t_in_job) return false;
         std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
         if (!busy.owns_lock()) return false;
+        const InJob in_job;
         {
             std::lock_guard<std::mutex> lock(mutex_);
             if (stopping_) return false;  // a call during exit, from another thread
             if (static_cast<int>(threads_.size()) < helpers) {
-                // Helpers take no signals: a signal for the process (the viewer's Ctrl-C, which
-                // one thread waits for) must not land on a thread that happened to make them.
-                struct BlockAllSignals {
-                    sigset_t before;
-                    BlockAllSignals() {
-                        sigset_t all;
-                        sigfillset(&all);
-                        pthread_sigmask(SIG_SETMASK, &all, &before);
-                    }
-                    ~BlockAllSignals() { pthread_sigmask(SIG_SETMASK, &before, nullptr); }
-                } blocked;  // while the helpers are made: they inherit the mask
+                const BlockAsynchronousSignals blocked;  // the helpers inherit the mask
                 while (static_cast<int>(threads_.size()) < helpers) {
                     const int index = static_cast<int>(threads_.size());
                     threads_.emplace_back([this, index] { helper_main(index); });
@@ -115,9 +107,35 @@ public:
 private:
     static constexpr std::chrono::milliseconds kStayAwake{20};
 
-    // Ends the helpers and waits for them, so that a process ends with one thread.
+    // Whether this thread is working on a pool job (as its caller or as a helper).
+    static thread_local bool t_in_job;
+    struct InJob {
+        InJob() { t_in_job = true; }
+        ~InJob() { t_in_job = false; }
+    };
+
+    // Helpers take no asynchronous signals: a signal for the process (the viewer's Ctrl-C, which
+    // one thread waits for) must not land on a thread that happened to make them. Signals a
+    // thread's own fault raises stay open, so that a crash in a helper is reported.
+    struct BlockAsynchronousSignals {
+        sigset_t before;
+        BlockAsynchronousSignals() {
+            sigset_t blocked;
+            sigfillset(&blocked);
+            for (int fault : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGTRAP, SIGSYS, SIGABRT, SIGPROF})
+                sigdelset(&blocked, fault);
+            pthread_sigmask(SIG_SETMASK, &blocked, &before);
+        }
+        ~BlockAsynchronousSignals() { pthread_sigmask(SIG_SETMASK, &before, nullptr); }
+    };
+
+    // Ends the helpers and waits for them, so that a process ends with one thread. Only when no
+    // job is under way: otherwise (exit called from inside a job, or while another thread's
+    // runs) the helpers are left to end with the process.
     void stop_at_exit() {
-        if (getpid() != owner_) return;  // a child of fork() has no helpers to stop
+        if (getpid() != owner_ || t_in_job) return;  // a child of fork() has no helpers to stop
+        std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
+        if (!busy.owns_lock()) return;
         {
             std::lock_guard<std::mutex> lock(mutex_);
             stopping_ = true;
@@ -130,9 +148,12 @@ private:
 
     void helper_main(int index) {
         uint64_t seen = 0;
+        bool worked = true;  // on the last job: then stay awake for a while
         for (;;) {
-            // Awake for a while, then asleep, until a new generation (a job, or the end).
-            const auto awake_until = std::chrono::steady_clock::now() + kStayAwake;
+            // Awake for a while after a job it worked on, then asleep, until a new generation
+            // (a job, or the end). A helper that a job did not need sleeps at once: after a call
+            // with many threads, later calls with fewer do not keep the rest awake.
+            const auto awake_until = std::chrono::steady_clock::now() + (worked ? kStayAwake : std::chrono::milliseconds(0));
             while (generation_.load(std::memory_order_acquire) == seen &&
                    std::chrono::steady_clock::now() < awake_until)
                 std::this_thread::yield();
@@ -148,8 +169,12 @@ private:
                 job = job_;
                 joins = index < job_helpers_;
             }
+            worked = joins;
             if (!joins) continue;
-            job->run(index + 1);
+            {
+                const InJob in_job;
+                job->run(index + 1);
+            }
             unfinished_.fetch_sub(1, std::memory_order_acq_rel);
         }
     }
@@ -165,6 +190,8 @@ private:
     std::atomic<int> unfinished_{0};  // helpers of the current job still working on it
     std::vector<std::thread> threads_;
 };
+
+thread_local bool HelperPool::t_in_job = false;
 
 // parallel_for without the pool: threads made for this call.
 void run_on_new_threads(Job& job, int helpers) {

@@ -185,9 +185,12 @@ TEST(ParallelFor, CallsFromSeveralThreadsAndNestedCallsEachVisitEveryItemOnce) {
 
 // A signal sent to the process must reach a thread that expects it (the viewer has one thread
 // wait for Ctrl-C, with the signal blocked everywhere else), never a kept helper made while it
-// was unblocked.
-TEST(ParallelFor, HelperThreadsTakeNoSignals) {
-    std::atomic<int> helpers_taking_sigint{0}, helper_items{0};
+// was unblocked; a fault in a helper must still be reported (its signal open); and the caller's
+// own mask is as it was.
+TEST(ParallelFor, HelperThreadsTakeNoSignalsButTheirOwnFaults) {
+    sigset_t caller_before, caller_after;
+    pthread_sigmask(SIG_BLOCK, nullptr, &caller_before);
+    std::atomic<int> helpers_taking_sigint{0}, helpers_blocking_segv{0}, helper_items{0};
     std::atomic<int> started{0};
     parallel_for(2, 2, [&](size_t, int worker) {
         ++started;
@@ -198,9 +201,13 @@ TEST(ParallelFor, HelperThreadsTakeNoSignals) {
         sigset_t mask;
         pthread_sigmask(SIG_BLOCK, nullptr, &mask);
         if (!sigismember(&mask, SIGINT)) ++helpers_taking_sigint;
+        if (sigismember(&mask, SIGSEGV)) ++helpers_blocking_segv;
     });
+    pthread_sigmask(SIG_BLOCK, nullptr, &caller_after);
     EXPECT_EQ(helper_items.load(), 1);
     EXPECT_EQ(helpers_taking_sigint.load(), 0);
+    EXPECT_EQ(helpers_blocking_segv.load(), 0);
+    EXPECT_EQ(sigismember(&caller_after, SIGINT), sigismember(&caller_before, SIGINT));
 }
 
 // A child of fork() has only the thread that forked: the kept helpers are not there, and a call
