@@ -134,10 +134,11 @@ public:
     // were allocated: the render time includes them.
     void render(const Targets& targets, const Timer& timer, RenderStats* stats) {
         targets_ = targets;
-        const int tile = std::max(1, options_.tile_size);
+        const int threads = std::max(1, options_.threads);
+        const int tile = options_.tile_size > 0 ? options_.tile_size
+                                                : automatic_tile_size(frame_.width, frame_.height, threads);
         const int tiles_x = (frame_.width + tile - 1) / tile, tiles_y = (frame_.height + tile - 1) / tile;
         const size_t tile_count = static_cast<size_t>(tiles_x) * static_cast<size_t>(tiles_y);
-        const int threads = std::max(1, options_.threads);
         std::vector<WorkerState> workers(static_cast<size_t>(threads));
         std::atomic<size_t> tiles_done{0};
         std::atomic<bool> stopped{false};
@@ -367,6 +368,15 @@ private:
 };
 
 }  // namespace
+
+int automatic_tile_size(int width, int height, int threads) {
+    auto tiles = [&](int tile) {
+        return static_cast<int64_t>((width + tile - 1) / tile) * static_cast<int64_t>((height + tile - 1) / tile);
+    };
+    int tile = 64;
+    while (tile > 16 && tiles(tile) < 8 * static_cast<int64_t>(std::max(1, threads))) tile /= 2;
+    return tile;
+}
 
 Image render_image(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
     const Timer timer;

@@ -34,7 +34,7 @@ struct CropWindow {
 
 struct RenderOptions {
     int threads = 1;
-    int tile_size = 16;
+    int tile_size = 0;  ///< pixels per side of a tile; 0: automatic_tile_size's choice
     RenderMode mode = RenderMode::Shaded;
     int samples_per_pixel = 1;  ///< stratified over an n×n grid when n² = spp, else a jittered row
     bool shadows = false;       ///< a shadow ray towards every light from every shaded hit

@@ -358,6 +358,18 @@ TEST(RenderTest, OneSamplePerPixelIsExactlyTheCourseMainLoop) {
     }
 }
 
+// 64 pixels a side, halved down to 16 while the frame would have fewer than 8 tiles per thread.
+TEST(RenderTest, AutomaticTileSizeKeepsEightTilesPerThreadDownTo16) {
+    EXPECT_EQ(automatic_tile_size(1024, 1024, 2), 64);   // 16 x 16 = 256 tiles for 2 threads
+    EXPECT_EQ(automatic_tile_size(1024, 1024, 32), 64);  // 256 = 8 x 32
+    EXPECT_EQ(automatic_tile_size(1024, 1024, 33), 32);  // 256 < 264; 32 x 32 = 1024 tiles
+    EXPECT_EQ(automatic_tile_size(200, 200, 2), 64);     // 4 x 4 = 16 = 8 x 2
+    EXPECT_EQ(automatic_tile_size(200, 200, 4), 32);     // 16 < 32; 7 x 7 = 49
+    EXPECT_EQ(automatic_tile_size(37, 29, 1), 16);       // 1, then 2 x 1, then 16 is the least
+    EXPECT_EQ(automatic_tile_size(37, 29, 0), 16);       // no threads counts as one
+    EXPECT_EQ(automatic_tile_size(1, 1, 1), 16);
+}
+
 TEST(RenderTest, ThreadsAndTileSizesDoNotChangeTheImage) {
     const Scene scenes[2] = {mesh_scene(), transformed_scene()};
     for (const Scene& scene : scenes)
@@ -370,7 +382,7 @@ TEST(RenderTest, ThreadsAndTileSizesDoNotChangeTheImage) {
             RenderStats reference_stats;
             const Image reference = render_image(scene, options, &reference_stats);
             for (int threads : {1, 2, 3})
-                for (int tile : {1, 7, 16, 64}) {
+                for (int tile : {0, 1, 7, 16, 64}) {  // 0: automatic_tile_size's
                     options.threads = threads;
                     options.tile_size = tile;
                     RenderStats stats;
