@@ -63,7 +63,7 @@ Options:
       --shade-back           light back faces as front faces (MIT: -shade_back)
       --specular-fix         MIT: multiply the specular term by N.L (MIT: -specular_fix)
       --tile N               tile size in pixels (default 64, down to 16 for small images:
-                             8 tiles or more per thread)
+                             16 tiles or more per thread)
       --simd ISA             trace primary rays in SIMD packets of avx512, avx2, sse2 or
                              portable, or none (one ray at a time); default auto, the
                              widest this CPU runs. The image is the same with every choice.

@@ -374,7 +374,7 @@ int automatic_tile_size(int width, int height, int threads) {
         return static_cast<int64_t>((width + tile - 1) / tile) * static_cast<int64_t>((height + tile - 1) / tile);
     };
     int tile = 64;
-    while (tile > 16 && tiles(tile) < 8 * static_cast<int64_t>(std::max(1, threads))) tile /= 2;
+    while (tile > 16 && tiles(tile) < 16 * static_cast<int64_t>(std::max(1, threads))) tile /= 2;
     return tile;
 }
 

@@ -34,10 +34,11 @@ struct RenderStats {
 };
 
 /// The tile size the renderer takes when RenderOptions::tile_size is 0: 64 pixels a side, halved
-/// (down to 16) while the frame would have fewer than 8 tiles per thread. Larger tiles mean
-/// fewer claims of shared counters and fewer cache lines of the image that two threads write at
-/// once (a row of a 16-pixel tile is 48 bytes): at 1024x1024 on two threads, tiles of 64 rendered
-/// 1.04-1.11x faster than tiles of 16 (docs/performance.md).
+/// (down to 16) while the frame would have fewer than 16 tiles per thread, so that the last tile
+/// a thread works on alone is at most about a sixteenth of its share. Larger tiles mean fewer
+/// claims of shared counters and fewer cache lines of the image that two threads write at once
+/// (a row of a 16-pixel tile is 48 bytes): at 1024x1024 on two threads, tiles of 64 rendered
+/// 1.04-1.12x faster than tiles of 16 (docs/performance.md).
 int automatic_tile_size(int width, int height, int threads);
 
 /// Renders the scene (or the crop window of it). Depth and Material modes ignore lights.

@@ -358,13 +358,14 @@ TEST(RenderTest, OneSamplePerPixelIsExactlyTheCourseMainLoop) {
     }
 }
 
-// 64 pixels a side, halved down to 16 while the frame would have fewer than 8 tiles per thread.
-TEST(RenderTest, AutomaticTileSizeKeepsEightTilesPerThreadDownTo16) {
+// 64 pixels a side, halved down to 16 while the frame would have fewer than 16 tiles per thread.
+TEST(RenderTest, AutomaticTileSizeKeepsSixteenTilesPerThreadDownTo16) {
     EXPECT_EQ(automatic_tile_size(1024, 1024, 2), 64);   // 16 x 16 = 256 tiles for 2 threads
-    EXPECT_EQ(automatic_tile_size(1024, 1024, 32), 64);  // 256 = 8 x 32
-    EXPECT_EQ(automatic_tile_size(1024, 1024, 33), 32);  // 256 < 264; 32 x 32 = 1024 tiles
-    EXPECT_EQ(automatic_tile_size(200, 200, 2), 64);     // 4 x 4 = 16 = 8 x 2
-    EXPECT_EQ(automatic_tile_size(200, 200, 4), 32);     // 16 < 32; 7 x 7 = 49
+    EXPECT_EQ(automatic_tile_size(1024, 1024, 16), 64);  // 256 = 16 x 16
+    EXPECT_EQ(automatic_tile_size(1024, 1024, 17), 32);  // 256 < 272; 32 x 32 = 1024 tiles
+    EXPECT_EQ(automatic_tile_size(200, 200, 1), 64);     // 4 x 4 = 16
+    EXPECT_EQ(automatic_tile_size(200, 200, 2), 32);     // 16 < 32; 7 x 7 = 49
+    EXPECT_EQ(automatic_tile_size(200, 200, 4), 16);     // 49 < 64; 13 x 13 = 169
     EXPECT_EQ(automatic_tile_size(37, 29, 1), 16);       // 1, then 2 x 1, then 16 is the least
     EXPECT_EQ(automatic_tile_size(37, 29, 0), 16);       // no threads counts as one
     EXPECT_EQ(automatic_tile_size(1, 1, 1), 16);
