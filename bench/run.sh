@@ -251,6 +251,9 @@ for i in "${!names[@]}"; do
     result[$name,render]=$(fmt %.1f "$best_render_ms")
     result[$name,mrays]=$(mrays "$rays" "$best_render_ms")
     result[$name,hit]=$hit_fraction
+    # The camera rays of windows found to see nothing (coloured without being traced one by one).
+    skipped=$(field "$line" window_missed_rays)
+    [ -z "$skipped" ] || result[$name,skipped]=$(fmt %.4f "$(calc "$skipped / $(field "$line" primary_rays)")")
     result[$name,wall]=$(fmt %.2f "$(calc "$best_wall_ms / 1000")")
     result[$name,traversal]=$(field "$line" traversal)
     if [ -n "$peak_rss_kib" ]; then
@@ -401,10 +404,10 @@ ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "n/a" || b == "n/a" || a == 
     echo
     echo "### raycast on bumpy spheres"
     echo
-    echo "| triangles | load ms | build ms | render ms | Mrays/s packets | Mrays/s single | hit fraction | end-to-end s | peak MiB | bytes/triangle |"
-    echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    echo "| triangles | load ms | build ms | render ms | Mrays/s packets | Mrays/s single | hit fraction | window-missed fraction | end-to-end s | peak MiB | bytes/triangle |"
+    echo "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     for name in "${names[@]}"; do
-        echo "| $(get "$name,triangles") | $(get "$name,load") | $(get "$name,build") | $(get "$name,render") | $(get "$name,mrays") | $(get "$name,mrays_single") | $(get "$name,hit") | $(get "$name,wall") | $(get "$name,rss") | $(get "$name,bpt") |"
+        echo "| $(get "$name,triangles") | $(get "$name,load") | $(get "$name,build") | $(get "$name,render") | $(get "$name,mrays") | $(get "$name,mrays_single") | $(get "$name,hit") | $(get "$name,skipped") | $(get "$name,wall") | $(get "$name,rss") | $(get "$name,bpt") |"
     done
     echo
     echo "Packet traversal: $(get "${names[0]},traversal")."

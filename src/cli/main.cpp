@@ -219,13 +219,15 @@ int run_render(const CliOptions& options) {
     if (options.stats) {
         const double mrays = stats.milliseconds > 0 ? static_cast<double>(stats.rays) / (stats.milliseconds * 1000) : 0;
         std::printf("raycast-stats load_ms=%.3f build_ms=%.3f render_ms=%.3f rays=%llu mrays_per_s=%.3f "
-                    "triangles=%zu threads=%d hit_fraction=%.4f traversal=%s primary_rays=%llu shadow_rays=%llu "
+                    "triangles=%zu threads=%d hit_fraction=%.4f traversal=%s primary_rays=%llu window_missed_rays=%llu "
+                    "shadow_rays=%llu "
                     "secondary_rays=%llu occlusion_rays=%llu rev_surfaces=%zu rev_surface_tests=%llu "
                     "newton_iterations=%llu newton_failures=%llu\n",
                     loaded.load_ms, loaded.build_ms, stats.milliseconds, static_cast<unsigned long long>(stats.rays),
                     mrays, scene.triangle_count(), threads,
                     stats.primary_rays ? static_cast<double>(stats.hits) / static_cast<double>(stats.primary_rays) : 0.0,
                     stats.traversal.c_str(), static_cast<unsigned long long>(stats.primary_rays),
+                    static_cast<unsigned long long>(stats.window_missed_rays),
                     static_cast<unsigned long long>(stats.shadow_rays),
                     static_cast<unsigned long long>(stats.secondary_rays),
                     static_cast<unsigned long long>(stats.occlusion_rays), scene.rev_surfaces.size(),

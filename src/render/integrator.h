@@ -25,6 +25,7 @@ namespace raycast {
 struct RayCounts {
     uint64_t primary = 0;       ///< camera rays
     uint64_t primary_hits = 0;  ///< camera rays that hit something
+    uint64_t window_missed = 0;  ///< camera rays whose window was found to miss everything (also in primary)
     uint64_t shadow = 0;        ///< towards lights
     uint64_t secondary = 0;     ///< reflected and transmitted
     uint64_t occlusion = 0;     ///< ambient occlusion
@@ -97,6 +98,12 @@ Integrator make_integrator(const Scene& scene, const RenderOptions& options);
 /// The radiance function of a render mode (Shaded is the Whitted ray tracer; with 0 bounces and
 /// no shadows it is the course's ray caster).
 RadianceFunction radiance_function_for(RenderMode mode);
+
+/// Whether every camera ray that hits nothing gets one colour in this mode, whatever its
+/// direction, pixel or sample (the background, or black): then the render loop may colour pixels
+/// whose rays it knows to miss without tracing them. Not so in cost mode, whose colour counts the
+/// nodes each ray visited. A new mode must say.
+bool misses_look_alike(RenderMode mode);
 
 /// Traces a secondary ray (t > 0) of `kind` from the shading of `parent`'s ray, counts it,
 /// records it when explaining, and returns what the integrator's radiance function makes of it.

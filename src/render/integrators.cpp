@@ -12,6 +12,7 @@ namespace raycast {
 RayCounts& RayCounts::operator+=(const RayCounts& other) {
     primary += other.primary;
     primary_hits += other.primary_hits;
+    window_missed += other.window_missed;
     shadow += other.shadow;
     secondary += other.secondary;
     occlusion += other.occlusion;
@@ -371,6 +372,18 @@ RadianceFunction radiance_function_for(RenderMode mode) {
         case RenderMode::AmbientOcclusion: return ambient_occlusion_radiance;
     }
     return whitted_radiance;
+}
+
+bool misses_look_alike(RenderMode mode) {
+    switch (mode) {
+        case RenderMode::Shaded: return true;            // the background
+        case RenderMode::Normals: return true;           // black
+        case RenderMode::Depth: return true;             // black, and no distance
+        case RenderMode::Material: return true;          // black
+        case RenderMode::AmbientOcclusion: return true;  // black
+        case RenderMode::Cost: return false;             // the nodes the ray visited
+    }
+    return false;
 }
 
 Integrator make_integrator(const Scene& scene, const RenderOptions& options) {

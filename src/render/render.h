@@ -18,6 +18,9 @@ namespace raycast {
 struct RenderStats {
     uint64_t rays = 0;            ///< every ray traced: camera, shadow, reflected and transmitted
     uint64_t primary_rays = 0;    ///< camera rays
+    /// Camera rays of windows that RenderOptions::skip_empty_windows found to miss everything,
+    /// coloured without being traced one by one (counted in primary_rays and rays too).
+    uint64_t window_missed_rays = 0;
     uint64_t shadow_rays = 0;
     uint64_t secondary_rays = 0;  ///< reflected and transmitted
     uint64_t occlusion_rays = 0;  ///< ambient occlusion

@@ -509,6 +509,86 @@ TEST(RenderTest, OnePassMakesTheColourDepthAndNormalsImagesOfItsOwnModes) {
     EXPECT_EQ(images.depth.width, scene.camera.width);
 }
 
+// Pixels whose camera rays can all be seen to miss (RenderOptions::skip_empty_windows: a tile,
+// or a part of 16x16 pixels, whose bounding planes miss every box and plane of the scene) get the
+// miss colour without being traced. Whatever the path, mode, sample count or target, the image
+// and every count but window_missed_rays are those of tracing every ray, and windows are skipped.
+TEST(RenderTest, WindowsThatSeeNothingChangeNoPixelAndNoCount) {
+    // The test scenes seen wider, 96x72, so that much of the frame is background (and sky, for
+    // the two with planes).
+    auto widened = [](Scene scene, CameraDesc desc) {
+        scene.camera = make_camera(desc, desc.width, desc.height, scene.conventions);
+        return scene;
+    };
+    const Scene scenes[3] = {widened(mesh_scene(), camera({1, 2.5f, 8}, {-0.1f, -0.3f, -1}, 70, 96, 72)),
+                             widened(spheres_scene(), camera({0, 0, 10}, {0, 0, -1}, 60, 96, 72)),
+                             widened(transformed_scene(), camera({0.5f, 1, 9}, {-0.05f, 0.3f, -1}, 64, 96, 72))};
+    const char* const names[3] = {"meshes", "spheres on a floor", "transformed, over a tilted plane"};
+    struct Variant {
+        const char* name;
+        void (*set)(RenderOptions&);
+    };
+    const Variant variants[] = {
+        {"default", [](RenderOptions&) {}},
+        {"4 samples, 3 threads", [](RenderOptions& o) { o.samples_per_pixel = 4; o.threads = 3; }},
+        {"single rays, shadows", [](RenderOptions& o) { o.packet_isa = PacketIsa::None; o.shadows = true; }},
+        {"shadows, tiles of 16", [](RenderOptions& o) { o.shadows = true; o.tile_size = 16; }},
+        {"tiles of 40", [](RenderOptions& o) { o.tile_size = 40; }},
+        {"tiles of 7, 2 threads", [](RenderOptions& o) { o.tile_size = 7; o.threads = 2; }},
+        {"normals", [](RenderOptions& o) { o.mode = RenderMode::Normals; }},
+        {"depth", [](RenderOptions& o) { o.mode = RenderMode::Depth; }},
+        {"ambient occlusion", [](RenderOptions& o) { o.mode = RenderMode::AmbientOcclusion; o.ao_samples = 4; }},
+        {"material, 4 samples", [](RenderOptions& o) { o.mode = RenderMode::Material; o.samples_per_pixel = 4; }},
+        {"crop", [](RenderOptions& o) { o.has_crop = true; o.crop = {5, 3, 90, 60}; }},
+    };
+    for (int k = 0; k < 3; ++k) {
+        for (const Variant& variant : variants) {
+            RenderOptions traced;
+            variant.set(traced);
+            traced.skip_empty_windows = false;
+            RenderOptions skipped = traced;
+            skipped.skip_empty_windows = true;
+            RenderStats traced_stats, skipped_stats;
+            const Image reference = render_image(scenes[k], traced, &traced_stats);
+            const Image image = render_image(scenes[k], skipped, &skipped_stats);
+            EXPECT_TRUE(same_floats(image, reference)) << names[k] << ", " << variant.name;
+            EXPECT_EQ(traced_stats.window_missed_rays, 0u);
+            EXPECT_GT(skipped_stats.window_missed_rays, skipped_stats.primary_rays / 20) << names[k] << ", " << variant.name;
+            EXPECT_LT(skipped_stats.window_missed_rays + skipped_stats.hits, skipped_stats.primary_rays);
+            EXPECT_EQ(skipped_stats.rays, traced_stats.rays) << names[k] << ", " << variant.name;
+            EXPECT_EQ(skipped_stats.primary_rays, traced_stats.primary_rays);
+            EXPECT_EQ(skipped_stats.hits, traced_stats.hits);
+            EXPECT_EQ(skipped_stats.shadow_rays, traced_stats.shadow_rays);
+            EXPECT_EQ(skipped_stats.occlusion_rays, traced_stats.occlusion_rays);
+        }
+        // The normals image of a colour render is filled there too.
+        FrameRequest all;
+        all.depth = all.normals = true;
+        RenderOptions traced;
+        traced.skip_empty_windows = false;
+        RenderOptions skipped;
+        const FrameImages reference = render_frame_rgb8(scenes[k], traced, all);
+        const FrameImages images = render_frame_rgb8(scenes[k], skipped, all);
+        EXPECT_TRUE(images.color.rgb == reference.color.rgb) << names[k];
+        EXPECT_TRUE(images.depth.rgb == reference.depth.rgb) << names[k];
+        EXPECT_TRUE(images.normals.rgb == reference.normals.rgb) << names[k];
+    }
+    // Cost mode's colour counts each ray's nodes, and a thin lens's rays leave the lens from
+    // different points: neither skips.
+    for (bool lens : {false, true}) {
+        Scene scene = scenes[0];
+        RenderOptions options;
+        if (lens) {
+            scene.camera.lens_radius = 0.1f;
+        } else {
+            options.mode = RenderMode::Cost;
+        }
+        RenderStats stats;
+        render_image(scene, options, &stats);
+        EXPECT_EQ(stats.window_missed_rays, 0u) << (lens ? "lens" : "cost");
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Supersampling.
 
