@@ -22,7 +22,10 @@
 //    of 1e-30 seen from 1e6 away), which brute force still hits; docs/reliability.md;
 //  - render_frame_rgb8's depth and normals images equal those modes' renders, and its colour
 //    image is the quantized float image (render.h);
-//  - explain_pixel gives a pixel the colour the render gave it (render.h).
+//  - explain_pixel gives a pixel the colour the render gave it (render.h);
+//  - the render with every ray traced (RenderOptions::skip_empty_windows off) is bit for bit the
+//    same, with the same counts, extreme numbers included: a window found to see nothing
+//    (scene/camera_window.h) really sees nothing.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -175,6 +178,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                                 pixel_text(image.at(x, y)),
                             random);
     if (random.moderate && options.mode != RenderMode::Cost) check_against_reference(scene, options, image, random);
+    {
+        RenderOptions traced = options;
+        traced.skip_empty_windows = false;
+        RenderStats traced_stats;
+        const Image every_ray = render_image(scene, traced, &traced_stats);
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x)
+                if (!same_pixel(image.at(x, y), every_ray.at(x, y)))
+                    finding("skipping windows that see nothing changed a pixel",
+                            string_printf("mode %s, pixel (%d, %d): ", render_mode_name(options.mode), x, y) +
+                                pixel_text(image.at(x, y)) + " vs " + pixel_text(every_ray.at(x, y)) + " traced",
+                            random);
+        if (traced_stats.rays != stats.rays || traced_stats.hits != stats.hits)
+            finding("skipping windows that see nothing changed the counts", "", random);
+    }
     if (check_frame) check_frame_images(scene, options, image, random);
     if (check_explain) {
         const int x = static_cast<int>(choices.below(kWidth)), y = static_cast<int>(choices.below(kHeight));
