@@ -589,6 +589,63 @@ TEST(RenderTest, WindowsThatSeeNothingChangeNoPixelAndNoCount) {
     }
 }
 
+// Scenes at the edges of the window test's reasoning, found by a review (each rendered wrongly
+// before its fix): a lone sphere under a matrix far from orthogonal, traced through the float
+// inverse, reaches well outside the box made with the matrix, and a lone instance's box is not
+// tested by the tracer; a plane whose dot products with the camera's centre underflow; a camera
+// of nearly 180 degrees whose `up` nearly parallels its direction, so that make_camera's rounded
+// `horizontal` is not at right angles to it and the image's edges look slightly backwards; and a
+// lone surface of revolution, whose tests are counted.
+TEST(RenderTest, WindowsThatSeeNothingHoldAtTheEdges) {
+    const char* const common = R"(Background { color 0.1 0.2 0.3 ambientLight 1 1 1 }
+Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }
+)";
+    const struct {
+        const char* name;
+        const char* camera;
+        const char* objects;
+    } cases[] = {
+        {"ill-conditioned transform",
+         "PerspectiveCamera { center -3.44064879 4.91521263 0 direction 3.44064879 -4.91521263 0 up 0 0 1 angle 40 "
+         "width 128 height 128 }",
+         "Transform { Matrix4f { 1 0.7 0 0  0.7 0.490001 0 0  0 0 1 0  0 0 0 1 } Sphere { center 0 0 0 radius 1 } }"},
+        {"underflowing plane",
+         "PerspectiveCamera { center 2.64697796e-23 2.64697796e-23 2.64697796e-23 direction 1.45 1.45 -2.8 up 0 0 1 "
+         "angle 30 width 32 height 32 }",
+         "Plane { normal 7.67623634e-23 7.67623634e-23 -1.48230763e-22 offset 0 }"},
+        {"nearly 180 degrees",
+         "PerspectiveCamera { center 0 0 0 direction -0.631836891 -0.632301569 0.541339397 "
+         "up -0.604615092 -0.605060399 0.518017888 angle 179.998856 width 64 height 64 }",
+         "Sphere { center -2.28915 4.07729 1.77073 radius 0.02 }"},
+        {"lone surface of revolution",
+         "PerspectiveCamera { center 0 1 8 direction 0 0 -1 up 0 1 0 angle 60 width 64 height 64 }",
+         "RevSurface { profile BsplineCurve { controls [ 0 0 0 ] [ 0 0 0 ] [ 0 0 0 ] [ 0.9 0 0 ] [ 1.05 0.05 0 ] "
+         "[ 0.3 0.22 0 ] [ 0.12 0.5 0 ] [ 0 1.62 0 ] [ 0 1.62 0 ] [ 0 1.62 0 ] } }"},
+    };
+    for (const auto& c : cases) {
+        const std::string text = std::string(c.camera) + "\n" + common + "Group { numObjects 1 MaterialIndex 0 " +
+                                 c.objects + " }\n";
+        const Scene scene = build(load_scene_text(text, "edge.txt"));
+        for (int variant = 0; variant < 2; ++variant) {
+            RenderOptions traced;
+            if (variant == 1) {
+                traced.samples_per_pixel = 4;
+                traced.threads = 2;
+                traced.tile_size = 32;
+            }
+            traced.skip_empty_windows = false;
+            RenderOptions skipped = traced;
+            skipped.skip_empty_windows = true;
+            RenderStats traced_stats, skipped_stats;
+            const Image reference = render_image(scene, traced, &traced_stats);
+            EXPECT_GT(traced_stats.hits, 0u) << c.name;  // something is in view
+            EXPECT_TRUE(same_floats(render_image(scene, skipped, &skipped_stats), reference)) << c.name;
+            EXPECT_EQ(skipped_stats.hits, traced_stats.hits) << c.name;
+            EXPECT_EQ(skipped_stats.rev_surface.tests, traced_stats.rev_surface.tests) << c.name;
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Supersampling.
 

@@ -11,6 +11,39 @@ double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1]
 // Stack entries for the BVH walks: the instance BVH's depth bound covers both.
 constexpr int kStackSize = kMaxBvhDepth + 1;
 
+// The least margin, in world units. Below about 1e-19 products of coordinates underflow, and
+// the tracer's float tests lose their relative precision (a triangle test's edge functions are
+// such products): no window is claimed to miss anything that close.
+constexpr double kLeastMargin = 1e-12;
+
+// The least margin on a plane test's dot products: each float product in them may underflow,
+// by up to 2^-150 (about 7e-46).
+constexpr double kLeastProductMargin = 1e-40;
+
+// Whether a transform is close enough to orthogonal for its world box to hold what the tracer
+// hits: the condition number of the 3x3 part of object_from_world (infinity norms, in double) is
+// at most 100. The tracer moves rays into object space with the float matrix; its rounding,
+// about 1e-7 of the coordinates, comes back to world space times at most that condition number,
+// 1e-5 of the coordinates, which the margin's 1e-4 covers.
+bool well_conditioned(const Mat4& object_from_world) {
+    double a[3][3];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) a[r][c] = object_from_world.m[r][c];
+    const double cofactor[3][3] = {
+        {a[1][1] * a[2][2] - a[1][2] * a[2][1], a[1][2] * a[2][0] - a[1][0] * a[2][2], a[1][0] * a[2][1] - a[1][1] * a[2][0]},
+        {a[0][2] * a[2][1] - a[0][1] * a[2][2], a[0][0] * a[2][2] - a[0][2] * a[2][0], a[0][1] * a[2][0] - a[0][0] * a[2][1]},
+        {a[0][1] * a[1][2] - a[0][2] * a[1][1], a[0][2] * a[1][0] - a[0][0] * a[1][2], a[0][0] * a[1][1] - a[0][1] * a[1][0]}};
+    const double determinant = a[0][0] * cofactor[0][0] + a[0][1] * cofactor[0][1] + a[0][2] * cofactor[0][2];
+    // The inverse is the cofactors' transpose over the determinant: its rows are their columns.
+    double norm = 0, inverse_norm = 0;
+    for (int r = 0; r < 3; ++r) {
+        norm = std::max(norm, std::fabs(a[r][0]) + std::fabs(a[r][1]) + std::fabs(a[r][2]));
+        inverse_norm = std::max(inverse_norm, std::fabs(cofactor[0][r]) + std::fabs(cofactor[1][r]) + std::fabs(cofactor[2][r]));
+    }
+    const double condition = norm * inverse_norm / std::fabs(determinant);
+    return std::isfinite(condition) && condition <= 100;
+}
+
 }  // namespace
 
 CameraWindow camera_window(const Camera& camera, float px0, float px1, float py0, float py1) {
@@ -45,7 +78,21 @@ CameraWindow camera_window(const Camera& camera, float px0, float px1, float py0
         const double scale = length > 0 ? (dot3(n, middle) < 0 ? -1 : 1) / length : 0;  // inwards, unit
         for (int axis = 0; axis < 3; ++axis) n[axis] *= scale;
     }
-    for (int axis = 0; axis < 3; ++axis) window.normal[4][axis] = d[axis];  // unit already
+    // Every exact direction a·horizontal + b·up + direction has the same component along
+    // horizontal × up, direction's (horizontal and up are each at right angles to it): the plane
+    // facing that way has every ray ahead of it, if that component is clearly positive. (Not
+    // `direction` itself: make_camera rounds horizontal, and when `up` nearly parallels
+    // `direction` the two are not quite at right angles, so that a wide window's rays may point
+    // a little behind the plane facing `direction`.)
+    double ahead[3] = {h[1] * u[2] - h[2] * u[1], h[2] * u[0] - h[0] * u[2], h[0] * u[1] - h[1] * u[0]};
+    const double ahead_length = std::sqrt(dot3(ahead, ahead));
+    double widest = 0;
+    for (const double* c : corner) widest = std::max(widest, std::sqrt(dot3(c, c)));
+    const double along = ahead_length > 0 ? std::fabs(dot3(ahead, d)) / ahead_length : 0;
+    if (along > 1e-3 * widest) {
+        const double scale = (dot3(ahead, d) < 0 ? -1 : 1) / ahead_length;
+        for (int axis = 0; axis < 3; ++axis) window.normal[4][axis] = ahead[axis] * scale;
+    }
     window.origin[0] = camera.center.x;
     window.origin[1] = camera.center.y;
     window.origin[2] = camera.center.z;
@@ -74,7 +121,7 @@ bool window_misses_box(const CameraWindow& window, const Bounds3f& box) {
         farthest_squared += std::max(near[axis] * near[axis], far[axis] * far[axis]);
         scale = std::max({scale, std::fabs(window.origin[axis]), std::fabs(lower[axis]), std::fabs(upper[axis])});
     }
-    const double margin = 1e-3 * std::sqrt(farthest_squared) + 1e-4 * scale;
+    const double margin = 1e-3 * std::sqrt(farthest_squared) + 1e-4 * scale + kLeastMargin;
     if (!std::isfinite(margin)) return false;
     for (const double* n : window.normal) {
         // The box's greatest distance into the plane's side: its corner farthest along n.
@@ -91,13 +138,15 @@ bool window_misses_plane(const CameraWindow& window, const Plane& plane) {
     const double normal_length = std::sqrt(dot3(n, n));
     // Which side of the plane the camera is on (the sign of t's numerator), with room for its
     // rounding in float (of offset − n·o, whose terms are at most `size`).
+    // The float products may also underflow, each by up to 2^-150 (kLeastProductMargin).
     const double size = std::fabs(double{plane.offset}) + normal_length * std::sqrt(dot3(window.origin, window.origin));
     const double numerator = plane.offset - dot3(n, window.origin);
-    if (!std::isfinite(size) || !(std::fabs(numerator) > 1e-4 * size)) return false;
+    if (!std::isfinite(size) || !(std::fabs(numerator) > 1e-4 * size + kLeastProductMargin)) return false;
     for (const double* d : window.corner) {
-        // t's denominator must have the other sign, by far more than its rounding.
+        // t's denominator must have the other sign, by far more than its rounding (the corner's
+        // direction is not unit: both sides scale with its length).
         const double denominator = dot3(n, d);
-        const double margin = 1e-3 * normal_length * std::sqrt(dot3(d, d));
+        const double margin = (1e-3 * normal_length + kLeastProductMargin) * std::sqrt(dot3(d, d));
         if (numerator > 0 ? !(denominator < -margin) : !(denominator > margin)) return false;
     }
     return true;
@@ -130,6 +179,21 @@ bool window_misses_scene(const Scene& scene, const CameraWindow& window, int mes
         }
         return true;
     };
+    // An instance BVH of one leaf is not box-tested by the tracer (intersect.cpp, traverse_packet):
+    // its instances are tested whatever the ray. Their boxes hold what the tracer can hit only
+    // for meshes, spheres and triangles that are untransformed or under a transform close to
+    // orthogonal (well_conditioned): a transformed object is traced through the float inverse of
+    // its matrix, which for a matrix far from orthogonal reaches well outside the box made with
+    // the matrix itself. And a surface of revolution's tests are counted.
+    if (nodes.size() == 1)
+        for (uint32_t i = nodes[0].first; i < nodes[0].first + nodes[0].count; ++i) {
+            const Instance& instance = scene.instances[scene.instance_bvh.prim_order[i]];
+            const bool box_holds_it =
+                (instance.kind == ShapeKind::Mesh || instance.kind == ShapeKind::Sphere ||
+                 instance.kind == ShapeKind::Triangle) &&
+                (instance.transform == kNoTransform || well_conditioned(scene.object_from_world[instance.transform]));
+            if (!box_holds_it) return false;
+        }
     uint32_t stack[kStackSize];
     int size = 0;
     stack[size++] = 0;

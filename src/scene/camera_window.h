@@ -22,7 +22,7 @@ namespace raycast {
 
 /// The rays of a pinhole camera through the image-plane window [px0, px1] × [py0, py1] (pixel
 /// units, as camera_ray takes them), as the planes through the camera's centre that bound them:
-/// four sides and the plane facing the view direction (every camera ray goes forwards).
+/// four sides, and the plane facing horizontal × up, ahead of which every camera ray goes.
 struct CameraWindow {
     /// False where nothing can be said (an orthographic or thin-lens camera, whose rays do not
     /// leave one point; a camera that looks behind itself; values that are not finite): then no
@@ -41,22 +41,25 @@ CameraWindow camera_window(const Camera& camera, float px0, float px1, float py0
 
 /// Whether every ray of the window misses everything inside `box`: the box lies outside one of
 /// the window's planes by more than 1e-3 of its farthest corner's distance from the camera plus
-/// 1e-4 of the largest coordinate involved. A computed ray strays from its exact direction by a
-/// few float roundings (about 1e-7 of its length), and a hit found in float may lie a few
-/// roundings of the coordinates (about 1e-7 of their size) off the surface, so the margin is
-/// about a thousand times what rounding could bring back. An empty box is missed.
+/// 1e-4 of the largest coordinate involved (and never less than 1e-12). A computed ray strays
+/// from its exact direction by a few float roundings (about 1e-7 of its length), and a hit found
+/// in float may lie a few roundings of the coordinates (about 1e-7 of their size) off the
+/// surface, so the margin is about a thousand times what rounding could bring back; below 1e-12,
+/// where products of coordinates would underflow, nothing is claimed. An empty box is missed.
 bool window_misses_box(const CameraWindow& window, const Bounds3f& box);
 
 /// Whether every ray of the window misses the plane: the camera is on one side of it, and every
 /// corner's direction points away from it (so every ray's does), each by a margin like
-/// window_misses_box's. intersect_plane's t = (offset − n·o) / (n·d) is then negative for every
-/// ray, rounding included.
+/// window_misses_box's, and more than what the float dot products could lose to underflow.
+/// intersect_plane's t = (offset − n·o) / (n·d) is then negative for every ray, rounding included.
 bool window_misses_plane(const CameraWindow& window, const Plane& plane);
 
 /// Whether every ray of the window misses the whole scene: every plane (window_misses_plane),
 /// and, as far as the boxes show, everything bounded: the instance BVH is walked, and an
 /// untransformed mesh's wide BVH down to `mesh_levels` levels, dropping boxes the window misses.
-/// False as soon as a box it reaches is not missed (its contents would need the rays themselves).
+/// False as soon as a box it reaches is not missed (its contents would need the rays themselves),
+/// and for an instance BVH of one leaf (which the tracer does not box-test) holding anything but
+/// untransformed meshes, spheres and triangles, whose boxes hold all the tracer can hit.
 bool window_misses_scene(const Scene& scene, const CameraWindow& window, int mesh_levels = 3);
 
 }  // namespace raycast

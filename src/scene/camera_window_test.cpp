@@ -254,14 +254,37 @@ TEST(CameraWindowTest, TheSceneIsMissedOnlyWhereEveryObjectIs) {
     scene = test::build(desc);
     EXPECT_TRUE(window_misses_scene(scene, camera_window(scene.camera, 0, 16, 48, 64)));
     EXPECT_FALSE(window_misses_scene(scene, camera_window(scene.camera, 0, 16, 0, 16)));
-    // A mesh, untransformed (its BVH's boxes are walked) and transformed (its instance's box).
+    // A mesh, untransformed (its BVH's boxes are walked) and transformed (its instance's box,
+    // which the tracer tests only where the instance BVH has more than one leaf: two spheres
+    // behind the camera make it so).
     desc.meshes.push_back({"cube.obj", test::cube_mesh()});
     desc.root = test::group({test::mesh_object(0)});
     scene = test::build(desc);
     EXPECT_TRUE(window_misses_scene(scene, camera_window(scene.camera, 0, 16, 0, 16)));
     EXPECT_FALSE(window_misses_scene(scene, camera_window(scene.camera, 24, 40, 24, 40)));
-    desc.root = test::group({test::transform(Mat4::translate({0, 0, 1}), test::mesh_object(0))});
+    const ObjectDesc moved = test::transform(Mat4::translate({0, 0, 1}), test::mesh_object(0));
+    desc.root = test::group({moved});
     scene = test::build(desc);
+    ASSERT_EQ(scene.instance_bvh.nodes.size(), 1u);
+    EXPECT_TRUE(window_misses_scene(scene, camera_window(scene.camera, 0, 16, 0, 16)));
+    // Alone, under a matrix far from orthogonal, its box is not trusted (see
+    // RenderTest.WindowsThatSeeNothingHoldAtTheEdges)...
+    Mat4 skewed;
+    skewed.m[0][1] = skewed.m[1][0] = 0.7f;
+    skewed.m[1][1] = 0.490001f;
+    const ObjectDesc squashed = test::transform(skewed, test::mesh_object(0));
+    desc.root = test::group({squashed});
+    scene = test::build(desc);
+    ASSERT_EQ(scene.instance_bvh.nodes.size(), 1u);
+    EXPECT_FALSE(window_misses_scene(scene, camera_window(scene.camera, 0, 16, 0, 16)));
+    // ... but with company, the tracer tests the leaves' boxes too.
+    desc.root = test::group({squashed, test::sphere({0, 0, 20}, 1), test::sphere({0, 0, 40}, 1)});
+    scene = test::build(desc);
+    ASSERT_GT(scene.instance_bvh.nodes.size(), 1u);
+    EXPECT_TRUE(window_misses_scene(scene, camera_window(scene.camera, 0, 8, 0, 8)));
+    desc.root = test::group({moved, test::sphere({0, 0, 20}, 1), test::sphere({0, 0, 40}, 1)});
+    scene = test::build(desc);
+    ASSERT_GT(scene.instance_bvh.nodes.size(), 1u);
     EXPECT_TRUE(window_misses_scene(scene, camera_window(scene.camera, 0, 16, 0, 16)));
     EXPECT_FALSE(window_misses_scene(scene, camera_window(scene.camera, 24, 40, 24, 40)));
     // Nothing at all: every window misses it.
