@@ -26,7 +26,9 @@
 //  - the render with every ray traced (RenderOptions::skip_empty_windows off) is bit for bit the
 //    same, with the same counts of rays and hits, extreme numbers included (and of surface of
 //    revolution tests, with moderate numbers): a window found to see nothing
-//    (scene/camera_window.h) really sees nothing.
+//    (scene/camera_window.h) really sees nothing. One input in eight also renders the same view
+//    at 40x24 in tiles of 16, 32 or 64, where tiles hold several of the 16x16 parts checked for
+//    it, both ways.
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -105,6 +107,43 @@ void check_frame_images(const Scene& scene, RenderOptions options, const Image& 
         finding("render_frame_rgb8's depth differs from a depth render", "", random);
 }
 
+// The render with every ray traced (RenderOptions::skip_empty_windows off) must be `image`, bit
+// for bit, with the same counts.
+void check_skipped_windows(const Scene& scene, const RenderOptions& options, const Image& image, const RenderStats& stats,
+                           const RandomScene& random) {
+    RenderOptions traced = options;
+    traced.skip_empty_windows = false;
+    RenderStats traced_stats;
+    const Image every_ray = render_image(scene, traced, &traced_stats);
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x) {
+            const Vec3f p = image.at(x, y), q = every_ray.at(x, y);
+            if (std::memcmp(&p, &q, sizeof p) != 0)
+                finding("skipping windows that see nothing changed a pixel",
+                        string_printf("mode %s, pixel (%d, %d): ", render_mode_name(options.mode), x, y) +
+                            pixel_text(p) + " vs " + pixel_text(q) + " traced",
+                        random);
+        }
+    // With extreme numbers the tracer's box test can let a ray into a box it cannot reach (a
+    // camera 1e18 away: the stand-in for 1/0 times the distance overflows), and a surface of
+    // revolution there is tested, in vain: its counters may then differ, never the image.
+    const bool same_rev_counts = traced_stats.rev_surface.tests == stats.rev_surface.tests &&
+                                 traced_stats.rev_surface.newton_iterations == stats.rev_surface.newton_iterations;
+    if (traced_stats.rays != stats.rays || traced_stats.hits != stats.hits || (random.moderate && !same_rev_counts))
+        finding("skipping windows that see nothing changed the counts",
+                string_printf("rays %llu / %llu, hits %llu / %llu, surface of revolution tests %llu / %llu, "
+                              "Newton steps %llu / %llu (skipping / tracing every ray)",
+                              static_cast<unsigned long long>(stats.rays),
+                              static_cast<unsigned long long>(traced_stats.rays),
+                              static_cast<unsigned long long>(stats.hits),
+                              static_cast<unsigned long long>(traced_stats.hits),
+                              static_cast<unsigned long long>(stats.rev_surface.tests),
+                              static_cast<unsigned long long>(traced_stats.rev_surface.tests),
+                              static_cast<unsigned long long>(stats.rev_surface.newton_iterations),
+                              static_cast<unsigned long long>(traced_stats.rev_surface.newton_iterations)),
+                random);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -180,39 +219,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                                 pixel_text(image.at(x, y)),
                             random);
     if (random.moderate && options.mode != RenderMode::Cost) check_against_reference(scene, options, image, random);
-    if (stats.window_missed_rays > 0) {  // none in cost mode or through a lens
-        RenderOptions traced = options;
-        traced.skip_empty_windows = false;
-        RenderStats traced_stats;
-        const Image every_ray = render_image(scene, traced, &traced_stats);
-        for (int y = 0; y < image.height; ++y)
-            for (int x = 0; x < image.width; ++x) {
-                const Vec3f p = image.at(x, y), q = every_ray.at(x, y);
-                if (std::memcmp(&p, &q, sizeof p) != 0)
-                    finding("skipping windows that see nothing changed a pixel",
-                            string_printf("mode %s, pixel (%d, %d): ", render_mode_name(options.mode), x, y) +
-                                pixel_text(p) + " vs " + pixel_text(q) + " traced",
-                            random);
-            }
-        // With extreme numbers the tracer's box test can let a ray into a box it cannot reach (a
-        // camera 1e18 away: the stand-in for 1/0 times the distance overflows), and a surface of
-        // revolution there is tested, in vain: its counters may then differ, never the image.
-        const bool same_rev_counts = traced_stats.rev_surface.tests == stats.rev_surface.tests &&
-                                     traced_stats.rev_surface.newton_iterations == stats.rev_surface.newton_iterations;
-        if (traced_stats.rays != stats.rays || traced_stats.hits != stats.hits || (random.moderate && !same_rev_counts))
-            finding("skipping windows that see nothing changed the counts",
-                    string_printf("rays %llu / %llu, hits %llu / %llu, surface of revolution tests %llu / %llu, "
-                                  "Newton steps %llu / %llu (skipping / tracing every ray)",
-                                  static_cast<unsigned long long>(stats.rays),
-                                  static_cast<unsigned long long>(traced_stats.rays),
-                                  static_cast<unsigned long long>(stats.hits),
-                                  static_cast<unsigned long long>(traced_stats.hits),
-                                  static_cast<unsigned long long>(stats.rev_surface.tests),
-                                  static_cast<unsigned long long>(traced_stats.rev_surface.tests),
-                                  static_cast<unsigned long long>(stats.rev_surface.newton_iterations),
-                                  static_cast<unsigned long long>(traced_stats.rev_surface.newton_iterations)),
-                    random);
-    }
+    if (stats.window_missed_rays > 0) check_skipped_windows(scene, options, image, stats, random);
     if (check_frame) check_frame_images(scene, options, image, random);
     if (check_explain) {
         const int x = static_cast<int>(choices.below(kWidth)), y = static_cast<int>(choices.below(kHeight));
@@ -223,6 +230,24 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                     string_printf("pixel (%d, %d) from the top: ", x, y) + pixel_text(explanation.color) + " vs " +
                         pixel_text(image.at(x, kHeight - 1 - y)),
                     random);
+    }
+    // Now and then the same view on a frame five times as wide and four times as tall (40x24),
+    // in tiles of 16, 32 or 64, so that tiles hold several of the 16x16 parts that are checked
+    // for windows that see nothing, and some parts see something while others do not.
+    if (!options.has_crop && choices.one_in(8)) {
+        Camera wide = scene.camera;
+        wide.width *= 5;
+        wide.height *= 4;
+        wide.cx *= 5;
+        wide.cy *= 4;
+        wide.fx *= 5;
+        wide.fy *= 4;
+        RenderOptions larger = options;
+        larger.camera = &wide;
+        larger.tile_size = choices.pick(std::vector<int>{16, 32, 64});
+        RenderStats larger_stats;
+        const Image larger_image = render_image(scene, larger, &larger_stats);
+        if (larger_stats.window_missed_rays > 0) check_skipped_windows(scene, larger, larger_image, larger_stats, random);
     }
     return 0;
 }
