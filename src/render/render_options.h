@@ -57,8 +57,8 @@ struct RenderOptions {
     PacketIsa packet_isa = best_packet_isa();
     bool has_crop = false;
     CropWindow crop;      ///< render only this window (the image has the window's size)
-    /// Pixels whose camera rays can be seen to miss the scene's bounding box as a group (a
-    /// pinhole camera, no planes: window_misses_box) get the miss colour without being traced.
+    /// Pixels whose camera rays can be seen to miss the whole scene as a group (a pinhole
+    /// camera: window_misses_scene) get the miss colour without being traced.
     /// The image is the same either way (tests compare); false traces every ray, for those tests.
     bool skip_empty_windows = true;
     /// Called now and then from the rendering threads with the fraction done (0..1).

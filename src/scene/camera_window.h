@@ -44,8 +44,9 @@ CameraWindow camera_window(const Camera& camera, float px0, float px1, float py0
 /// 1e-4 of the largest coordinate involved (and never less than 1e-12). A computed ray strays
 /// from its exact direction by a few float roundings (about 1e-7 of its length), and a hit found
 /// in float may lie a few roundings of the coordinates (about 1e-7 of their size) off the
-/// surface, so the margin is about a thousand times what rounding could bring back; below 1e-12,
-/// where products of coordinates would underflow, nothing is claimed. An empty box is missed.
+/// surface, so the margin is about a thousand times what rounding could bring back; the floor of
+/// 1e-12 stays well above where products of coordinates underflow (about 1e-19), where the
+/// tracer's tests lose their relative precision. An empty box is missed.
 bool window_misses_box(const CameraWindow& window, const Bounds3f& box);
 
 /// Whether every ray of the window misses the plane: the camera is on one side of it, and every
@@ -59,7 +60,8 @@ bool window_misses_plane(const CameraWindow& window, const Plane& plane);
 /// untransformed mesh's wide BVH down to `mesh_levels` levels, dropping boxes the window misses.
 /// False as soon as a box it reaches is not missed (its contents would need the rays themselves),
 /// and for an instance BVH of one leaf (which the tracer does not box-test) holding anything but
-/// untransformed meshes, spheres and triangles, whose boxes hold all the tracer can hit.
+/// meshes, spheres and triangles that are untransformed or under a transform of condition number
+/// at most 100, whose boxes hold all the tracer can hit.
 bool window_misses_scene(const Scene& scene, const CameraWindow& window, int mesh_levels = 3);
 
 }  // namespace raycast
