@@ -10,6 +10,19 @@
 
 namespace raycast::test {
 
+/// A perspective camera of `angle` degrees, width × height pixels.
+inline CameraDesc perspective(Vec3f center, Vec3f direction, Vec3f up, float angle, int width, int height) {
+    CameraDesc desc;
+    desc.kind = CameraDesc::Kind::Perspective;
+    desc.center = center;
+    desc.direction = direction;
+    desc.up = up;
+    desc.angle_degrees = angle;
+    desc.width = width;
+    desc.height = height;
+    return desc;
+}
+
 inline ObjectDesc sphere(Vec3f center, float radius, int material = 0) {
     ObjectDesc o;
     o.kind = ObjectDesc::Kind::Sphere;

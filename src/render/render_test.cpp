@@ -30,14 +30,7 @@ using namespace test;  // the scene builders (tests/scene_builders.h)
 // Scene building blocks.
 
 CameraDesc camera(Vec3f center, Vec3f direction, float angle, int w, int h) {
-    CameraDesc c;
-    c.center = center;
-    c.direction = direction;
-    c.up = {0, 1, 0};
-    c.angle_degrees = angle;
-    c.width = w;
-    c.height = h;
-    return c;
+    return perspective(center, direction, {0, 1, 0}, angle, w, h);
 }
 
 // A unit sphere of triangles (no degenerate pole triangles) with smooth vertex normals, so that

@@ -11,8 +11,12 @@
 #include <cmath>
 #include <cstring>
 
+#include "scene_builders.h"
+
 namespace raycast {
 namespace {
+
+using test::perspective;
 
 constexpr float kTol = 1e-6f;
 
@@ -25,18 +29,6 @@ void expect_vec_near(Vec3f actual, Vec3f expected, float tolerance = kTol) {
 Vec3f unit(float x, float y, float z) {
     const double len = std::sqrt(double{x} * x + double{y} * y + double{z} * z);
     return {static_cast<float>(x / len), static_cast<float>(y / len), static_cast<float>(z / len)};
-}
-
-CameraDesc perspective(Vec3f center, Vec3f direction, Vec3f up, float angle, int w, int h) {
-    CameraDesc desc;
-    desc.kind = CameraDesc::Kind::Perspective;
-    desc.center = center;
-    desc.direction = direction;
-    desc.up = up;
-    desc.angle_degrees = angle;
-    desc.width = w;
-    desc.height = h;
-    return desc;
 }
 
 // A 4×2 camera at (1, 2, 3) looking down −z with a non-unit direction (0, 0, −2) and a tilted,

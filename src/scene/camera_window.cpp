@@ -8,6 +8,12 @@ namespace {
 
 double dot3(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
+void cross3(const double* a, const double* b, double* out) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
 // Stack entries for the BVH walks: the instance BVH's depth bound covers both.
 constexpr int kStackSize = kMaxBvhDepth + 1;
 
@@ -67,12 +73,8 @@ CameraWindow camera_window(const Camera& camera, float px0, float px1, float py0
             middle[axis] += corner[i][axis];
         }
     for (int side = 0; side < 4; ++side) {
-        const double* p = corner[side];
-        const double* q = corner[(side + 1) % 4];
         double* n = window.normal[side];
-        n[0] = p[1] * q[2] - p[2] * q[1];
-        n[1] = p[2] * q[0] - p[0] * q[2];
-        n[2] = p[0] * q[1] - p[1] * q[0];
+        cross3(corner[side], corner[(side + 1) % 4], n);
         const double length = std::sqrt(dot3(n, n));
         if (!std::isfinite(length)) return window;  // not bounded
         const double scale = length > 0 ? (dot3(n, middle) < 0 ? -1 : 1) / length : 0;  // inwards, unit
@@ -84,7 +86,8 @@ CameraWindow camera_window(const Camera& camera, float px0, float px1, float py0
     // `direction` itself: make_camera rounds horizontal, and when `up` nearly parallels
     // `direction` the two are not quite at right angles, so that a wide window's rays may point
     // a little behind the plane facing `direction`.)
-    double ahead[3] = {h[1] * u[2] - h[2] * u[1], h[2] * u[0] - h[0] * u[2], h[0] * u[1] - h[1] * u[0]};
+    double ahead[3];
+    cross3(h, u, ahead);
     const double ahead_length = std::sqrt(dot3(ahead, ahead));
     double widest = 0;
     for (const double* c : corner) widest = std::max(widest, std::sqrt(dot3(c, c)));

@@ -18,17 +18,7 @@
 namespace raycast {
 namespace {
 
-CameraDesc perspective(Vec3f center, Vec3f direction, Vec3f up, float angle, int w, int h) {
-    CameraDesc desc;
-    desc.kind = CameraDesc::Kind::Perspective;
-    desc.center = center;
-    desc.direction = direction;
-    desc.up = up;
-    desc.angle_degrees = angle;
-    desc.width = w;
-    desc.height = h;
-    return desc;
-}
+using test::perspective;
 
 // Looking down −z from the origin, 90° across a 64×64 image: fx = fy = 32, cx = cy = 32, so
 // pixel point (px, py) looks along ((px − 32)/32, (py − 32)/32, −1).
