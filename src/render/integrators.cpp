@@ -116,6 +116,20 @@ bool prepared_transmittance(TraceContext& context, size_t light, Vec3f& transmit
     return true;
 }
 
+// The back faces a shadow ray towards light `light` may pass over (scene/back_faces.h): those
+// Integrator::back_faces_skippable lists, for the shadow ray of a camera ray from the camera's
+// centre that leaves the hit on the camera's side; null for any other. trace_camera_shadows asks
+// the same of the same numbers.
+const uint8_t* camera_shadow_skips(const Integrator& integrator, size_t light, const TraceContext& context,
+                                   const Ray& ray, Vec3f geometric_normal, Vec3f to_light) {
+    if (context.depth != 0 || light >= integrator.back_faces_skippable.size()) return nullptr;
+    const std::vector<uint8_t>& skippable = integrator.back_faces_skippable[light];
+    if (skippable.empty() || ray.origin != integrator.camera_center ||
+        !origin_on_camera_side(geometric_normal, to_light, -ray.direction))
+        return nullptr;
+    return skippable.data();
+}
+
 // Ambient plus the diffuse and specular share of every light, with no shadow rays: local_shading
 // below when it traces and records nothing (the same operations in the same order).
 // shade_camera_hits_locally does the same for a packet's hits, an operation at a time.
@@ -132,7 +146,7 @@ Vec3f unshadowed_local_shading(const Scene& scene, const Material& material, con
 
 // Ambient plus every light, each gated by its shadow ray when shadows are on: the course's
 // ray caster is this with no shadows and no ambient.
-Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, TraceContext& context) {
+Vec3f local_shading(const Integrator& integrator, const Ray& ray, const ShadingFrame& frame, TraceContext& context) {
     const Scene& scene = integrator.scene;
     const Material& material = scene.materials[frame.surface.material];
     RayRecord* record = record_of(context);
@@ -150,7 +164,9 @@ Vec3f local_shading(const Integrator& integrator, const ShadingFrame& frame, Tra
             if (offset < 0) offset = ray_offset_distance(frame.surface.position, frame.travel_scale);
             const Vec3f origin =
                 offset_ray_origin_by(frame.surface.position, frame.surface.geometric_normal, arriving.to_light, offset);
-            transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context);
+            transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context,
+                                                camera_shadow_skips(integrator, i, context, ray,
+                                                                    frame.surface.geometric_normal, arriving.to_light));
         }
         const bool lit = transmittance != Vec3f{0, 0, 0};
         LightReflection terms{};
@@ -203,7 +219,7 @@ Vec3f whitted_radiance(const Integrator& integrator, const Ray& ray, const Hit& 
         if (record) record->note = "back face: black without shade_back (MIT's rule)";
         return finish(context, {0, 0, 0});
     }
-    Vec3f color = local_shading(integrator, frame, context);
+    Vec3f color = local_shading(integrator, ray, frame, context);
 
     const Material& material = scene.materials[frame.surface.material];
     const bool reflects = material.reflective != Vec3f{0, 0, 0};
@@ -387,8 +403,13 @@ bool misses_look_alike(RenderMode mode) {
 }
 
 Integrator make_integrator(const Scene& scene, const RenderOptions& options) {
-    Integrator integrator{scene, options, radiance_function_for(options.mode)};
+    Integrator integrator{scene, options, radiance_function_for(options.mode), 0, {}, {}};
     integrator.ao_distance = options.ao_distance;
+    const Camera& camera = render_camera(scene, options);
+    integrator.camera_center = camera.center;
+    if (options.shadows && !options.transparent_shadows && options.skip_back_faces)
+        for (const Light& light : scene.lights)
+            integrator.back_faces_skippable.push_back(back_faces_skippable(scene, camera, light));
     if (!(integrator.ao_distance > 0)) {
         // A tenth of the scene's diagonal; with nothing bounded (planes only), no limit.
         const float diagonal = scene.bounds.is_empty() ? INFINITY : length(scene.bounds.extent());
@@ -436,7 +457,7 @@ Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3
 }
 
 Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
-                          TraceContext& context) {
+                          TraceContext& context, const uint8_t* skip_back_faces) {
     const Scene& scene = integrator.scene;
     int shadow_record = -1;
     if (context.tree) {
@@ -472,8 +493,10 @@ Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_l
     if (!take_ray(context)) return finish({1, 1, 1}, nullptr, ray);
     ++context.counts->shadow;
     if (!integrator.options.transparent_shadows) {
-        if (!context.tree) return occluded(scene, ray, 0, distance) ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
-        // Explaining: the same answer, but with the blocker named.
+        if (!context.tree) return occluded(scene, ray, 0, distance, skip_back_faces) ? Vec3f{0, 0, 0} : Vec3f{1, 1, 1};
+        // Explaining: the same answer, but with the blocker named (the nearest hit, which may be
+        // a back face when the one that answered is farther).
+        if (skip_back_faces && !occluded(scene, ray, 0, distance, skip_back_faces)) return finish({1, 1, 1}, nullptr, ray);
         Hit hit;
         intersect(scene, ray, 0, hit);
         if (hit.is_hit() && hit.t < distance) return finish({0, 0, 0}, &hit, ray);
@@ -815,6 +838,7 @@ namespace {
 // rays and adding its share.
 struct ShadowPart {
     CameraShadows* shadows = nullptr;  // the part's pixels' answers
+    const Ray* rays = nullptr;         // their camera rays
     HitLanes lanes;
     LaneVectors surface_normal;  // for shadows[k], as surface_at gives it
     // Every shadow ray of a hit leaves its point by the same distance; a black back face is unlit
@@ -833,6 +857,7 @@ struct ShadowPart {
 void prepare_shadow_part(const Scene& scene, bool shading, const Ray* rays, const Hit* hits, int count,
                          CameraShadows* shadows, ShadowPart& part) {
     part.shadows = shadows;
+    part.rays = rays;
     part.any_local = false;
     HitLanes& lanes = part.lanes;
     lanes.count = 0;  // the caller reuses a part that had no hits
@@ -889,6 +914,11 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         Ray shadow_rays[kMaxCameraShadowHits];
         float t_max[kMaxCameraShadowHits];
         int traced_lane[kMaxCameraShadowHits];  // the hit of each ray, in its part
+        // Which rays may pass over back faces: camera_shadow_skips' test, ray by ray.
+        const uint8_t* skippable = i < integrator.back_faces_skippable.size() && !integrator.back_faces_skippable[i].empty()
+                                       ? integrator.back_faces_skippable[i].data()
+                                       : nullptr;
+        bool may_skip[kMaxCameraShadowHits];
         int ray_count = 0;
         for (int p = 0; p < part_count; ++p) {
             ShadowPart& part = parts[p];
@@ -906,6 +936,12 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
                                                                lanes.surface.geometric_normal.at(j), to_light.at(j),
                                                                part.offset[j]),
                                           to_light.at(j)};
+                if (skippable) {
+                    const Ray& camera_ray = part.rays[lanes.lane[j]];
+                    may_skip[ray_count] = camera_ray.origin == integrator.camera_center &&
+                                          origin_on_camera_side(lanes.surface.geometric_normal.at(j), to_light.at(j),
+                                                                -camera_ray.direction);
+                }
                 t_max[ray_count] = distance[j];
                 traced_lane[ray_count++] = j;
             }
@@ -914,7 +950,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         bool blocked[kMaxCameraShadowHits];
         for (int first = 0; first < ray_count; first += tracer.lanes())
             tracer.occluded(shadow_rays + first, std::min(tracer.lanes(), ray_count - first), 0, t_max + first,
-                            blocked + first);
+                            blocked + first, {skippable, may_skip + first});
         for (int p = 0; p < part_count; ++p) {
             ShadowPart& part = parts[p];
             bool lit[kMaxPacketLanes];  // a lane is lit unless its shadow ray was blocked

@@ -61,6 +61,10 @@ struct RenderOptions {
     /// camera: window_misses_scene) get the miss colour without being traced.
     /// The image is the same either way (tests compare); false traces every ray, for those tests.
     bool skip_empty_windows = true;
+    /// The shadow rays of camera hits pass over the back faces of closed meshes where that cannot
+    /// change their answer (scene/back_faces.h: both ends outside the mesh); false tests every
+    /// face, for the tests that compare.
+    bool skip_back_faces = true;
     /// Called now and then from the rendering threads with the fraction done (0..1).
     std::function<void(double)> progress;
     /// Asked before each tile; once it returns true the rest of the image is left undone and

@@ -582,6 +582,78 @@ TEST(RenderTest, WindowsThatSeeNothingChangeNoPixelAndNoCount) {
     }
 }
 
+// Shadow rays of camera hits pass over the back faces of closed meshes where both their ends
+// are outside (RenderOptions::skip_back_faces, scene/back_faces.h). Whatever the path, samples,
+// tiles or threads, the image and every count are those of testing every face, and explain, which
+// names the nearest blocker, still gives every pixel the rendered colour.
+TEST(RenderTest, ShadowRaysThatSkipBackFacesChangeNoPixelAndNoCount) {
+    SceneDesc desc;
+    desc.file = "closed.txt";
+    desc.camera = camera({1, 2.5f, 8}, {-0.1f, -0.3f, -1}, 35, 48, 40);
+    desc.materials = {material({0.8f, 0.6f, 0.4f}, {0.7f, 0.7f, 0.7f}, 20), material({0.3f, 0.7f, 0.3f}),
+                      material({0.5f, 0.5f, 0.9f}, {0.3f, 0.3f, 0.3f}, 4)};
+    // A sun, a lamp outside every box, and a lamp inside the slab's box, for which only the ball
+    // may skip.
+    desc.lights = {directional({-0.5f, -1, -0.6f}, {0.6f, 0.6f, 0.6f}), point_light({2, 4, 3}, {0.5f, 0.5f, 0.3f}),
+                   point_light({-2.5f, -1.35f, 1}, {0.4f, 0.4f, 0.4f})};
+    desc.has_lights_block = true;
+    TriangleMesh ball = smooth_sphere_mesh(24, 32);  // closed, bumpy: it shadows itself
+    for (Vec3f& p : ball.positions) p = p * (1 + 0.15f * std::sin(7 * p.x) * std::cos(5 * p.z));
+    TriangleMesh slab = cube_mesh();  // closed, in world space: [−4, 4] × [−1.6, −1.2] × [−4, 4]
+    for (Vec3f& p : slab.positions) p = {4 * p.x, -1.4f + 0.2f * p.y, 4 * p.z};
+    desc.meshes.push_back({"ball.obj", ball});
+    desc.meshes.push_back({"slab.obj", slab});
+    desc.meshes.push_back({"cube.obj", cube_mesh()});
+    desc.root = group({mesh_object(0, 0), mesh_object(1, 1),
+                       transform(Mat4::translate({1.8f, -0.7f, 0.5f}) * Mat4::scale({0.4f, 0.4f, 0.4f}), mesh_object(2, 2)),
+                       sphere({-1.7f, -0.6f, 1}, 0.5f, 2)});
+    const Scene scene = build(std::move(desc));
+
+    RenderOptions shadows;
+    shadows.shadows = true;
+    const Integrator integrator = make_integrator(scene, shadows);
+    const std::vector<std::vector<uint8_t>> skippable{{1, 1, 0, 0}, {1, 1, 0, 0}, {1, 0, 0, 0}};
+    ASSERT_EQ(integrator.back_faces_skippable, skippable);
+
+    struct Variant {
+        const char* name;
+        void (*set)(RenderOptions&);
+    };
+    const Variant variants[] = {
+        {"packets", [](RenderOptions&) {}},
+        {"single rays", [](RenderOptions& o) { o.packet_isa = PacketIsa::None; }},
+        {"4 samples, 3 threads", [](RenderOptions& o) { o.samples_per_pixel = 4; o.threads = 3; }},
+        {"tiles of 16, 2 threads, 2 bounces", [](RenderOptions& o) { o.tile_size = 16; o.threads = 2; o.bounces = 2; }},
+    };
+    for (const Variant& variant : variants) {
+        RenderOptions every_face = shadows;
+        variant.set(every_face);
+        every_face.skip_back_faces = false;
+        RenderOptions skipping = every_face;
+        skipping.skip_back_faces = true;
+        RenderStats every_face_stats, skipping_stats;
+        const Image reference = render_image(scene, every_face, &every_face_stats);
+        const Image image = render_image(scene, skipping, &skipping_stats);
+        EXPECT_TRUE(same_floats(image, reference)) << variant.name;
+        EXPECT_EQ(skipping_stats.rays, every_face_stats.rays) << variant.name;
+        EXPECT_EQ(skipping_stats.shadow_rays, every_face_stats.shadow_rays) << variant.name;
+        EXPECT_EQ(skipping_stats.secondary_rays, every_face_stats.secondary_rays) << variant.name;
+    }
+    // Not vacuous: the shadows darken many pixels, of the ball on itself among them.
+    RenderOptions unshadowed;
+    const ImageRgb8 lit = render_image_rgb8(scene, unshadowed);
+    const ImageRgb8 shadowed = render_image_rgb8(scene, shadows);
+    int darker = 0;
+    for (size_t i = 0; i < lit.rgb.size(); ++i) darker += shadowed.rgb[i] < lit.rgb[i];
+    EXPECT_GT(darker, static_cast<int>(lit.rgb.size()) / 10);
+    for (int y = 0; y < shadowed.height; ++y)
+        for (int x = 0; x < shadowed.width; ++x) {
+            const PixelExplanation e = explain_pixel(scene, shadows, x, shadowed.height - 1 - y);
+            const uint8_t* pixel = shadowed.at(x, y);
+            ASSERT_TRUE(e.rgb8[0] == pixel[0] && e.rgb8[1] == pixel[1] && e.rgb8[2] == pixel[2]) << x << ", " << y;
+        }
+}
+
 // Scenes at the edges of the window test's reasoning, found by a review (each rendered wrongly
 // before its fix): a lone sphere under a matrix far from orthogonal, traced through the float
 // inverse, reaches well outside the box made with the matrix, and a lone instance's box is not

@@ -392,6 +392,8 @@ MeshShape build_mesh_shape(TriangleMesh mesh, int threads) {
     }
     shape.groups = build_triangle_groups(mesh, shape.bvh, threads);
     if (!shape.bvh.empty()) shape.bounds = shape.bvh.bounds;
+    if (!shape.bvh.empty() && mesh_is_closed(mesh, threads))
+        shape.cones = build_normal_cones(shape.bvh, shape.groups.data(), threads);
     // Every triangle's corners and id are in its group now: what remains is for smooth normals.
     std::vector<uint32_t>().swap(shape.bvh.prim_order);
     std::vector<Vec3f>().swap(mesh.positions);

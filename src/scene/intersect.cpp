@@ -40,13 +40,17 @@ struct Query {
     float t_max;  // any-hit: hits must be nearer than this
     Hit& best;
     TraceCounters* counters;
+    const uint8_t* skip_back_faces = nullptr;  // any-hit: per instance, as occluded() takes it
 
     // Returns true when an any-hit query has its answer.
     bool mesh(const MeshShape& shape, const Ray& ray, uint32_t object) {
         if (shape.bvh.empty()) return false;
-        const MeshView view{shape.bvh.nodes.data(), shape.groups.data()};
+        MeshView view{shape.bvh.nodes.data(), shape.groups.data()};
         const MeshRayKernel& kernel = best_mesh_ray_kernel();
-        if (kAnyHit) return kernel.occluded(view, ray, t_min, t_max);
+        if (kAnyHit) {
+            if (skip_back_faces && skip_back_faces[object] && !shape.cones.empty()) view.cones = shape.cones.data();
+            return kernel.occluded(view, ray, t_min, t_max);
+        }
         kernel.intersect(view, ray, t_min, object, best, counters ? &counters->nodes_visited : nullptr);
         return false;
     }
@@ -139,9 +143,9 @@ void intersect(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceC
     RAYCAST_DCHECK(!hit.is_hit() || hit.t > t_min);
 }
 
-bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max) {
+bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max, const uint8_t* skip_back_faces) {
     Hit unused;
-    return Query<true>{scene, t_min, t_max, unused, nullptr}.run(ray);
+    return Query<true>{scene, t_min, t_max, unused, nullptr, skip_back_faces}.run(ray);
 }
 
 SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {

@@ -124,7 +124,8 @@ PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa) : scene_(scene), i
                            mesh.groups.data(),
                            mesh.leaf_size,
                            {mesh.bounds.lower.x, mesh.bounds.lower.y, mesh.bounds.lower.z},
-                           {mesh.bounds.upper.x, mesh.bounds.upper.y, mesh.bounds.upper.z}});
+                           {mesh.bounds.upper.x, mesh.bounds.upper.y, mesh.bounds.upper.z},
+                           mesh.cones.empty() ? nullptr : mesh.cones.data()});
     view_.scene = &scene;
     view_.instances = scene.instances.data();
     view_.object_from_world = scene.object_from_world.data();
@@ -148,13 +149,16 @@ void PacketTracer::intersect(const Ray* rays, int count, float t_min, Hit* hits)
     kernel_.intersect(view_, rays, count, t_min, hits);
 }
 
-void PacketTracer::occluded(const Ray* rays, int count, float t_min, const float* t_max, bool* blocked) const {
+void PacketTracer::occluded(const Ray* rays, int count, float t_min, const float* t_max, bool* blocked,
+                            const BackFaceSkipping& skipping) const {
     RAYCAST_DCHECK(count >= 0 && count <= lanes());
     if (!kernel_.occluded) {
-        for (int k = 0; k < count; ++k) blocked[k] = raycast::occluded(scene_, rays[k], t_min, t_max[k]);
+        for (int k = 0; k < count; ++k)
+            blocked[k] = raycast::occluded(scene_, rays[k], t_min, t_max[k],
+                                           skipping.instances && skipping.rays[k] ? skipping.instances : nullptr);
         return;
     }
-    kernel_.occluded(view_, rays, count, t_min, t_max, blocked);
+    kernel_.occluded(view_, rays, count, t_min, t_max, blocked, skipping);
 }
 
 }  // namespace raycast

@@ -69,8 +69,10 @@ public:
     /// blocked[k] = occluded(scene, rays[k], t_min, t_max[k]) for k < count <= lanes(): whether
     /// anything lies on ray k with t_min < t < t_max[k]. The rays need not share an origin or a
     /// direction (shadow rays from a packet's hits towards one light), but coherent ones are
-    /// traced faster.
-    void occluded(const Ray* rays, int count, float t_min, const float* t_max, bool* blocked) const;
+    /// traced faster. The rays `skipping` marks pass over the back faces it allows, as
+    /// occluded() with its instances does for each.
+    void occluded(const Ray* rays, int count, float t_min, const float* t_max, bool* blocked,
+                  const BackFaceSkipping& skipping = {}) const;
 
 private:
     const Scene& scene_;

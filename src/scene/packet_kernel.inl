@@ -481,9 +481,11 @@ inline void traverse_frustum(const MeshView& mesh, const PacketFrustum& f, float
 // popped. visit_leaf(payload, reached) is called with the live lanes whose box tests led to the
 // leaf, and returns true to stop; t_cull() and r.live are re-read after it. Without kNearFirst,
 // children are visited in slot order (for an any-hit query, whose cull distance never changes).
-template <SlabTest kTest, bool kNearFirst, typename CullFn, typename LeafFn>
+// skipped(node, slot) gives the lanes that need not enter that child however their box tests go
+// (an any-hit query passing over back faces, scene/back_faces.h; no lanes for the others).
+template <SlabTest kTest, bool kNearFirst, typename CullFn, typename LeafFn, typename SkipFn>
 inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, const SameOctant& octant, const VF& t_min,
-                                 CullFn&& t_cull, LeafFn&& visit_leaf) {
+                                 CullFn&& t_cull, LeafFn&& visit_leaf, SkipFn&& skipped) {
     const WideBvhNode* nodes = mesh.nodes;
     // A closest-hit walk keeps (node, slot) and tests the child's box again when it pops it,
     // against the nearer hits found meanwhile. An any-hit walk's cull distances never change, so
@@ -505,6 +507,8 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
             unsigned slots = 0, lanes = 0;
             for (uint32_t slot = 0; slot < node.child_count; ++slot) {
                 entered[slot] = child_hits<kTest>(node, slot, r, octant, t_min, cull, t_entry[slot]);
+                if (!any(entered[slot])) continue;
+                entered[slot] = andnot(entered[slot], skipped(ref, slot));
                 if (!any(entered[slot])) continue;
                 slots |= 1u << slot;
                 lanes |= bits(entered[slot]);
@@ -560,7 +564,8 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
             }
             const WideBvhNode& parent = nodes[next.ref];
             VF t_entry;
-            reached = child_hits<kTest>(parent, next.info, r, octant, t_min, t_cull(), t_entry);
+            reached = andnot(child_hits<kTest>(parent, next.info, r, octant, t_min, t_cull(), t_entry),
+                             skipped(next.ref, next.info));
             if (any(reached)) {
                 ref = parent.child[next.info];
                 break;
@@ -571,18 +576,21 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
 
 // traverse_packet_wide with the fastest slab test the packet allows (kNearFirst: for a closest-hit
 // query; an any-hit query takes the children in slot order).
-template <bool kNearFirst, typename CullFn, typename LeafFn>
+template <bool kNearFirst, typename CullFn, typename LeafFn, typename SkipFn>
 inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, float t_min, CullFn&& t_cull,
-                                 LeafFn&& visit_leaf) {
+                                 LeafFn&& visit_leaf, SkipFn&& skipped) {
     SameOctant octant;
     const VF t_min_v = splat(t_min);
     if (t_min < 0)
-        traverse_packet_wide<SlabTest::Widened, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::Widened, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf, skipped);
     else if (same_octant(r, octant))
-        traverse_packet_wide<SlabTest::SameOctant, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::SameOctant, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf, skipped);
     else
-        traverse_packet_wide<SlabTest::AnyOctant, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf);
+        traverse_packet_wide<SlabTest::AnyOctant, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf, skipped);
 }
+
+// For traversals that skip nothing.
+inline VM no_lanes(uint32_t, uint32_t) { return mask_from_bits(0); }
 
 // Offers each lane in `candidates` the hit (t, u, v) on (object, prim); keeps the closer, with
 // ties broken as is_closer() does.
@@ -715,8 +723,9 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
         }
     }
 #endif
-    traverse_packet_wide<true>(mesh, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
-                               [&](uint32_t first_block, VM) { return visit_leaf(first_block); });
+    traverse_packet_wide<true>(
+        mesh, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
+        [&](uint32_t first_block, VM) { return visit_leaf(first_block); }, no_lanes);
 }
 
 // Marks the lanes of now_blocked in blocked[] and takes them out of r.live.
@@ -732,9 +741,10 @@ inline void mark_blocked(PacketRays& r, VM now_blocked, bool* blocked) {
 // watertight permutation, each set with the group's vertices sheared for it. Rays that go one way
 // (shadow rays towards one light) are one set; a hit's ambient-occlusion rays, which leave one
 // point in every direction, up to six, but only one or two at most leaves, whose rays arrive from
-// nearby directions.
+// nearby directions. The lanes of `skip_back_faces` pass over the children whose triangles all
+// face away from them (mesh.cones, scene/back_faces.h), with faces_away's arithmetic.
 inline void occluded_mesh_packet(PacketRays& r, const MeshView& mesh, float t_min, VF t_max, VF t_cull,
-                                 bool* blocked) {
+                                 bool* blocked, VM skip_back_faces) {
     AxisSet axes[6];
     const int set_count = axis_sets(r, axes);
     WatertightPacket sets[6];
@@ -762,7 +772,20 @@ inline void occluded_mesh_packet(PacketRays& r, const MeshView& mesh, float t_mi
         }
         return !any(r.live);
     };
-    traverse_packet_wide<false>(mesh, r, t_min, [&] { return t_cull; }, visit_leaf);
+    if (mesh.cones && any(skip_back_faces)) {
+        const VF length = vsqrt(r.dx * r.dx + r.dy * r.dy + r.dz * r.dz);
+        const VM skipping = skip_back_faces & (splat(1e-15f) <= length) & (length <= splat(1e15f));
+        auto faces_away = [&](uint32_t node, uint32_t slot) {
+            const NodeCones& cones = mesh.cones[node];
+            const VF dot = splat(static_cast<float>(cones.axis[0][slot])) * r.dx +
+                           splat(static_cast<float>(cones.axis[1][slot])) * r.dy +
+                           splat(static_cast<float>(cones.axis[2][slot])) * r.dz;
+            return skipping & (splat(static_cast<float>(cones.reach[slot])) * length < dot);
+        };
+        traverse_packet_wide<false>(mesh, r, t_min, [&] { return t_cull; }, visit_leaf, faces_away);
+        return;
+    }
+    traverse_packet_wide<false>(mesh, r, t_min, [&] { return t_cull; }, visit_leaf, no_lanes);
 }
 
 // intersect_sphere (geometry/sphere.h) in every lane of `lanes`, operation for operation (the
@@ -923,9 +946,12 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
 }
 
 inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, int count, float t_min,
-                                  const float* t_max, bool* blocked) {
+                                  const float* t_max, bool* blocked, const BackFaceSkipping& skipping) {
     RAYCAST_DCHECK(count >= 1 && count <= kLanes);
     PacketRays r = load_packet(rays, count);
+    unsigned skip_rays = 0;  // the lanes that may skip the back faces of skipping.instances
+    if (skipping.instances)
+        for (int lane = 0; lane < count; ++lane) skip_rays |= unsigned{skipping.rays[lane]} << lane;
     float t_max_lanes[kLanes];
     for (int lane = 0; lane < kLanes; ++lane) t_max_lanes[lane] = lane < count ? t_max[lane] : 0.0f;
     const VF t_max_v = load(t_max_lanes), t_min_v = splat(t_min);
@@ -955,11 +981,12 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
                 occluded_lanes(id);
             } else if (view.meshes[instance.shape].nodes) {
                 const MeshView& mesh = view.meshes[instance.shape];
+                const VM skip = mask_from_bits(skip_rays != 0 && skipping.instances[id] ? skip_rays : 0);
                 if (instance.transform == kNoTransformIndex) {  // the packet as it is, no copy
-                    occluded_mesh_packet(r, mesh, t_min, t_max_v, t_cull, blocked);
+                    occluded_mesh_packet(r, mesh, t_min, t_max_v, t_cull, blocked, skip);
                 } else {
                     PacketRays local = transform_packet(r, view.object_from_world[instance.transform]);
-                    occluded_mesh_packet(local, mesh, t_min, t_max_v, t_cull, blocked);
+                    occluded_mesh_packet(local, mesh, t_min, t_max_v, t_cull, blocked, skip);
                     r.live = local.live;  // less the lanes it blocked
                 }
             }

@@ -14,8 +14,9 @@ void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_
     trace_packet(view, rays, count, t_min, hits);
 }
 
-void occluded(const PacketSceneView& view, const Ray* rays, int count, float t_min, const float* t_max, bool* blocked) {
-    trace_packet_occluded(view, rays, count, t_min, t_max, blocked);
+void occluded(const PacketSceneView& view, const Ray* rays, int count, float t_min, const float* t_max, bool* blocked,
+              const BackFaceSkipping& skipping) {
+    trace_packet_occluded(view, rays, count, t_min, t_max, blocked, skipping);
 }
 
 }  // namespace packet_sse2

@@ -22,6 +22,10 @@ struct MeshView {
     const GroupBlock* groups = nullptr;
     float leaf_size = 0;                 ///< MeshShape::leaf_size
     float lower[3] = {}, upper[3] = {};  ///< the root's box (MeshShape::bounds)
+    /// MeshShape::cones, for any-hit queries that may skip the mesh's back faces: the packet
+    /// kernel reads it for the lanes it is told may; the single-ray kernel whenever it is set (the
+    /// caller sets it only then). Null: no cones, or no skipping.
+    const NodeCones* cones = nullptr;
 };
 
 /// A packet of rays from one origin is walked through a mesh as a frustum (one test for a node's
@@ -54,7 +58,7 @@ bool occluded_instance(const Scene& scene, uint32_t id, const Ray& world_ray, fl
 struct PacketKernel {
     void (*intersect)(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) = nullptr;
     void (*occluded)(const PacketSceneView& view, const Ray* rays, int count, float t_min, const float* t_max,
-                     bool* blocked) = nullptr;
+                     bool* blocked, const BackFaceSkipping& skipping) = nullptr;
 };
 
 /// What one group test found, lane by lane (lane i: the group's triangle i): hits has bit i set
@@ -72,7 +76,8 @@ struct MeshRayKernel {
     /// instance); adds the child boxes it tests to *nodes_visited when that is given.
     void (*intersect)(const MeshView& mesh, const Ray& ray, float t_min, uint32_t object, Hit& best,
                       uint64_t* nodes_visited) = nullptr;
-    /// Whether the mesh has a hit with t_min < t < t_max.
+    /// Whether the mesh has a hit with t_min < t < t_max, passing over the children whose
+    /// triangles all face away from the ray when mesh.cones is set.
     bool (*occluded)(const MeshView& mesh, const Ray& ray, float t_min, float t_max) = nullptr;
     /// Tests every triangle of one group, as the other two do.
     void (*test_group)(const GroupBlock* group, const Ray& ray, float t_min, GroupLanes& lanes) = nullptr;
@@ -82,7 +87,7 @@ struct MeshRayKernel {
 #define RAYCAST_DECLARE_PACKET_KERNEL                                                                      \
     void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits);        \
     void occluded(const PacketSceneView& view, const Ray* rays, int count, float t_min, const float* t_max, \
-                  bool* blocked);
+                  bool* blocked, const BackFaceSkipping& skipping);
 namespace packet_portable {
 RAYCAST_DECLARE_PACKET_KERNEL
 }

@@ -100,9 +100,12 @@ inline unsigned hit_children(const WideBvhNode& node, const BoxTraversal& r, con
 // every child box tested adds one to *nodes_visited. kWidenInverse needs t_min >= 0. Without
 // kNearFirst, children are visited in slot order: for an any-hit query, whose cull distance never
 // changes, sorting cost more (its branches mispredict) than finding a blocker sooner saved.
-template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename CullFn, typename LeafFn>
+// skipped(node, hits) gives the slots of `hits` not to enter however their box tests went (an
+// any-hit query passing over back faces, scene/back_faces.h; none for the others).
+template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename CullFn, typename LeafFn,
+          typename SkipFn>
 [[gnu::always_inline]] inline bool traverse_wide(const WideBvhNode* nodes, const Ray& ray, float t_min, CullFn&& t_cull,
-                                                LeafFn&& visit_leaf, uint64_t* nodes_visited) {
+                                                LeafFn&& visit_leaf, uint64_t* nodes_visited, SkipFn&& skipped) {
     const BoxTraversal r = make_box_traversal<kWidenInverse>(ray, t_min);
     struct Pending {
         uint32_t ref;
@@ -119,6 +122,7 @@ template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename Cull
             if (kCount) *nodes_visited += node.child_count;
             NodeF t_entry;
             unsigned hits = hit_children<kWidenInverse>(node, r, cull_v, t_entry);
+            if (hits != 0) hits &= ~skipped(ref, hits);
             if (hits != 0) {
                 const unsigned first = lowest_bit(hits);
                 hits &= hits - 1;
@@ -343,12 +347,13 @@ void intersect(const MeshView& mesh, const Ray& ray, float t_min, uint32_t objec
         intersect_leaf(mesh.groups, first_block, r, object, best);
         return false;
     };
+    auto none = [](uint32_t, unsigned) { return 0u; };
     if (nodes_visited)
-        traverse_wide<true, false>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nodes_visited);
+        traverse_wide<true, false>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nodes_visited, none);
     else if (t_min >= 0)
-        traverse_wide<false, true>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nullptr);
+        traverse_wide<false, true>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nullptr, none);
     else
-        traverse_wide<false, false>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nullptr);
+        traverse_wide<false, false>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nullptr, none);
 }
 
 bool occluded(const MeshView& mesh, const Ray& ray, float t_min, float t_max) {
@@ -363,8 +368,30 @@ bool occluded(const MeshView& mesh, const Ray& ray, float t_min, float t_max) {
         }
         return occluded_leaf(mesh.groups, first_block, r, splat8(t_max));
     };
-    if (t_min >= 0) return traverse_wide<false, true, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr);
-    return traverse_wide<false, false, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr);
+    const Vec3f d = ray.direction;
+    const float length = mesh.cones ? __builtin_sqrtf(d.x * d.x + d.y * d.y + d.z * d.z) : 0.0f;
+    if (length >= 1e-15f && length <= 1e15f) {
+        // The children whose triangles all face away from the ray (scene/back_faces.h's
+        // faces_away, and the packet kernel's, operation for operation).
+        auto faces_away = [&](uint32_t node, unsigned hits) {
+            const NodeCones& cones = mesh.cones[node];
+            unsigned away = 0;
+            for (; hits; hits &= hits - 1) {
+                const unsigned slot = lowest_bit(hits);
+                const float dot = static_cast<float>(cones.axis[0][slot]) * d.x +
+                                  static_cast<float>(cones.axis[1][slot]) * d.y +
+                                  static_cast<float>(cones.axis[2][slot]) * d.z;
+                if (static_cast<float>(cones.reach[slot]) * length < dot) away |= 1u << slot;
+            }
+            return away;
+        };
+        if (t_min >= 0)
+            return traverse_wide<false, true, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, faces_away);
+        return traverse_wide<false, false, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, faces_away);
+    }
+    auto none = [](uint32_t, unsigned) { return 0u; };
+    if (t_min >= 0) return traverse_wide<false, true, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, none);
+    return traverse_wide<false, false, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, none);
 }
 
 void test_group(const GroupBlock* group, const Ray& ray, float t_min, GroupLanes& lanes) {

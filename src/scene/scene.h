@@ -15,6 +15,7 @@
 #include "geometry/triangle_groups.h"
 #include "geometry/triangle_mesh.h"
 #include "math/mat4.h"
+#include "scene/back_faces.h"
 #include "scene/camera.h"
 #include "scene/conventions.h"
 #include "scene/light.h"
@@ -36,6 +37,9 @@ struct MeshShape {
     /// The median of the leaves' sizes (a leaf box's largest side): how far apart rays may lie
     /// before a packet's frustum passes more leaves than its rays enter (packet_kernel.inl).
     float leaf_size = 0;
+    /// For a closed mesh (mesh_is_closed), the normal cones of every node's children
+    /// (scene/back_faces.h), so that shadow rays may skip its back faces; empty otherwise.
+    LargeVector<NodeCones> cones;
 };
 
 struct TriangleShape {
@@ -86,8 +90,11 @@ struct TraceCounters {
 /// The closest hit with t > t_min, if any (hit.is_hit()); ties as is_closer() says.
 void intersect(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceCounters* counters = nullptr);
 
-/// Whether anything lies on the ray with t_min < t < t_max (any hit, for shadow rays).
-bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max);
+/// Whether anything lies on the ray with t_min < t < t_max (any hit, for shadow rays). Where
+/// skip_back_faces[instance] is 1, that instance's mesh is tested only for the triangles that do
+/// not all face away from the ray with their neighbours (scene/back_faces.h: the caller vouches
+/// that the ray starts and ends outside it).
+bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max, const uint8_t* skip_back_faces = nullptr);
 
 /// What shading needs to know about a hit.
 struct SurfacePoint {

@@ -1,0 +1,100 @@
+// Shadow rays that may pass over back faces. A closed mesh divides space into inside and outside
+// (its winding number: how many times it wraps a point). A segment between two points outside it
+// crosses it as often going in as coming out, and it goes in only through faces that face it
+// (normal · direction < 0). So if neither end is inside, the segment meets the mesh if and only if
+// it meets a face that faces it: the faces it would leave through need not be tested. Around a lit
+// point every face faces the light, away from its shadow ray, so a shadow ray that finds nothing
+// in the way, as nearly all do, can skip nearly every leaf it passes near (docs/performance.md).
+//
+// Three things make it hold for a camera hit's shadow ray and an untransformed closed mesh:
+//   - the camera's centre is outside the mesh's box, so outside the mesh: every camera ray starts
+//     outside, and reaches its first hit without crossing anything, so it arrives from outside;
+//   - the shadow ray leaves the hit's plane on the camera's side (origin_on_camera_side), so it
+//     starts where the camera ray arrived from;
+//   - the light is a directional one (the ray leaves every box), or a point light clearly outside
+//     the mesh's box.
+// The image can then differ from testing every face only where the answer is already at the
+// edge of what float arithmetic decides: a ray grazing a silhouette edge, or a surface closer to
+// the hit than the offset that shadow rays start from.
+// Entry points: NodeCones, mesh_is_closed, build_normal_cones, back_faces_skippable.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "base/large_allocator.h"
+#include "bvh/wide_bvh.h"
+#include "geometry/triangle_groups.h"
+#include "geometry/triangle_mesh.h"
+#include "math/vec.h"
+
+namespace raycast {
+
+struct Camera;
+struct Light;
+struct Scene;
+
+/// The normals of the triangles under each child of a wide BVH node, as a cone: an axis q (a
+/// vector of integers, about 127 long) and a reach τ such that every triangle's unit normal n
+/// lies within τ/127 of q/127. A ray direction d with q·d > τ·|d| (in float, as the kernels
+/// compute it: (qx·dx + qy·dy) + qz·dz and √((dx·dx + dy·dy) + dz·dz)) has n·d > 0 for every one
+/// of those triangles: all of them face away from it. τ includes a margin for that arithmetic's
+/// rounding (see build_normal_cones). 32 bytes, one cache line per node.
+struct alignas(32) NodeCones {
+    int8_t axis[3][kWideBvhWidth];  ///< axis[a][slot]: component a of the child's axis q
+    uint8_t reach[kWideBvhWidth];   ///< the child's τ; kNoCone where it cannot tell
+};
+static_assert(sizeof(NodeCones) == 32, "a node's cones should fill half a cache line");
+
+/// Which rays of an any-hit query may pass over which back faces: the faces of the instances
+/// marked in `instances` (back_faces_skippable's answer for the query's light), for the rays marked
+/// in `rays` (one flag per ray of a packet; the single-ray occluded() takes the instances alone).
+struct BackFaceSkipping {
+    const uint8_t* instances = nullptr;  ///< per instance, 1 where it may; null: none may
+    const bool* rays = nullptr;          ///< per ray of the packet; read only when `instances` is set
+};
+
+/// A reach no direction beats: |q·d| <= |q||d| <= 127·√3·|d| < 255·|d|.
+constexpr uint8_t kNoCone = 255;
+
+/// Whether the children's triangles all face away from `direction`, computed exactly as the
+/// kernels compute it (they repeat it in their own instruction sets). `length` is
+/// √((dx·dx + dy·dy) + dz·dz); a length that is not between 1e-15 and 1e15 never skips, so that
+/// neither the squares nor the products underflow or overflow.
+inline bool faces_away(const NodeCones& cones, uint32_t slot, Vec3f direction, float length) {
+    if (!(length >= 1e-15f && length <= 1e15f)) return false;
+    const float dot = static_cast<float>(cones.axis[0][slot]) * direction.x +
+                      static_cast<float>(cones.axis[1][slot]) * direction.y +
+                      static_cast<float>(cones.axis[2][slot]) * direction.z;
+    return dot > static_cast<float>(cones.reach[slot]) * length;
+}
+
+/// Whether every edge of the mesh is used as often from one end to the other as back (edges as
+/// pairs of vertex indices): then it has no boundary, and every point off it has a winding number.
+/// Compared by a 64-bit hash of each directed edge, summed both ways, so a mesh with a boundary
+/// passes only if those sums collide (about one chance in 2^64). Runs on `threads` threads.
+bool mesh_is_closed(const TriangleMesh& mesh, int threads);
+
+/// The cones of every node of a mesh's wide BVH (node i's children: element i), from the triangles
+/// in its groups (the leaves' payloads are their first blocks). A child that holds a triangle with
+/// no clear normal (a sliver) gets kNoCone, and so do its ancestors. Runs on `threads` threads.
+LargeVector<NodeCones> build_normal_cones(const WideBvh& bvh, const GroupBlock* groups, int threads);
+
+/// For camera shadow rays towards `light` (shadow rays from camera hits, leaving on the camera's
+/// side): for each instance of the scene, 1 where they may skip its back faces: an untransformed
+/// mesh that has cones (it is closed), the camera a pinhole whose rays start at its centre
+/// (t_min 0) outside the mesh's box, and the light directional or a point clearly outside the
+/// box. Empty when no instance qualifies.
+std::vector<uint8_t> back_faces_skippable(const Scene& scene, const Camera& camera, const Light& light);
+
+/// Whether a shadow ray from a camera hit starts on the camera's side of the hit's plane:
+/// offset_ray_origin moves it off the plane of `geometric_normal` to the side of `to_light`, and
+/// the camera ray came from the side of `to_viewer`. False when that one lies in the plane (or is NaN).
+inline bool origin_on_camera_side(Vec3f geometric_normal, Vec3f to_light, Vec3f to_viewer) {
+    // offset_ray_origin_by's own test: the origin goes to the normal's negative side where this is < 0.
+    const bool origin_negative = dot(geometric_normal, to_light) < 0;
+    const float viewer_side = dot(geometric_normal, to_viewer);
+    return origin_negative ? viewer_side < 0 : viewer_side > 0;
+}
+
+}  // namespace raycast
