@@ -92,10 +92,10 @@ struct Integrator {
     RadianceFunction radiance;
     float ao_distance = 0;  ///< how far ambient-occlusion rays look (resolved from the options)
     /// Per light, back_faces_skippable for the render's camera: which instances' back faces the
-    /// shadow rays of camera hits may pass over (those leaving on the camera's side, from camera
-    /// rays that start at its centre). Empty lists where none; no lists without opaque shadow
+    /// shadow rays of camera hits may pass over (those from camera rays that start at its centre,
+    /// leaving on the camera's side and ending clear of the boxes). None without opaque shadow
     /// rays or with RenderOptions::skip_back_faces off.
-    std::vector<std::vector<uint8_t>> back_faces_skippable;
+    std::vector<SkippableBackFaces> back_faces_skippable;
     Vec3f camera_center;  ///< of the render's camera
 };
 
@@ -121,8 +121,9 @@ Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3
 /// What reaches `position` from a light along `to_light` over `distance`: 1 (all of it) when
 /// nothing is in the way, 0 when an opaque object is, and with transparent shadows the product
 /// of the transparentColor of every surface crossed. Counts and records the shadow ray.
-/// With skip_back_faces (Integrator::back_faces_skippable's list for the light, for a camera
-/// hit's ray that may use it), the back faces it marks are passed over, as occluded() does.
+/// With skip_back_faces (the instances of Integrator::back_faces_skippable's entry for the light,
+/// for a camera hit's ray that may use them), the back faces it marks are passed over, as
+/// occluded() does.
 Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_light, float distance,
                           TraceContext& context, const uint8_t* skip_back_faces = nullptr);
 

@@ -116,18 +116,23 @@ bool prepared_transmittance(TraceContext& context, size_t light, Vec3f& transmit
     return true;
 }
 
-// The back faces a shadow ray towards light `light` may pass over (scene/back_faces.h): those
-// Integrator::back_faces_skippable lists, for the shadow ray of a camera ray from the camera's
-// centre that leaves the hit on the camera's side; null for any other. trace_camera_shadows asks
-// the same of the same numbers.
-const uint8_t* camera_shadow_skips(const Integrator& integrator, size_t light, const TraceContext& context,
-                                   const Ray& ray, Vec3f geometric_normal, Vec3f to_light) {
-    if (context.depth != 0 || light >= integrator.back_faces_skippable.size()) return nullptr;
-    const std::vector<uint8_t>& skippable = integrator.back_faces_skippable[light];
-    if (skippable.empty() || ray.origin != integrator.camera_center ||
-        !origin_on_camera_side(geometric_normal, to_light, -ray.direction))
-        return nullptr;
-    return skippable.data();
+// What the shadow rays of camera hits towards light `light` may skip (scene/back_faces.h), or
+// null when nothing.
+const SkippableBackFaces* skippable_for(const Integrator& integrator, size_t light) {
+    if (light >= integrator.back_faces_skippable.size()) return nullptr;
+    const SkippableBackFaces& skippable = integrator.back_faces_skippable[light];
+    return skippable.instances.empty() ? nullptr : &skippable;
+}
+
+// Whether the shadow ray of a hit of `camera_ray` may skip them: the camera ray starts at the
+// camera's centre, and the shadow ray leaves the hit's plane on the camera's side, `offset` off
+// it, and ends clear of the boxes after `distance`. local_shading and trace_camera_shadows ask it
+// with the same numbers.
+bool camera_shadow_may_skip(const Integrator& integrator, const SkippableBackFaces& skippable, const Ray& camera_ray,
+                            Vec3f geometric_normal, Vec3f to_light, float offset, float distance) {
+    return camera_ray.origin == integrator.camera_center &&
+           origin_on_camera_side(geometric_normal, to_light, -camera_ray.direction) &&
+           ends_clear_of_boxes(skippable, offset, distance);
 }
 
 // Ambient plus the diffuse and specular share of every light, with no shadow rays: local_shading
@@ -164,9 +169,12 @@ Vec3f local_shading(const Integrator& integrator, const Ray& ray, const ShadingF
             if (offset < 0) offset = ray_offset_distance(frame.surface.position, frame.travel_scale);
             const Vec3f origin =
                 offset_ray_origin_by(frame.surface.position, frame.surface.geometric_normal, arriving.to_light, offset);
+            const SkippableBackFaces* skippable = context.depth == 0 ? skippable_for(integrator, i) : nullptr;
+            const bool may_skip = skippable && camera_shadow_may_skip(integrator, *skippable, ray,
+                                                                      frame.surface.geometric_normal,
+                                                                      arriving.to_light, offset, arriving.distance);
             transmittance = light_transmittance(integrator, origin, arriving.to_light, arriving.distance, context,
-                                                camera_shadow_skips(integrator, i, context, ray,
-                                                                    frame.surface.geometric_normal, arriving.to_light));
+                                                may_skip ? skippable->instances.data() : nullptr);
         }
         const bool lit = transmittance != Vec3f{0, 0, 0};
         LightReflection terms{};
@@ -914,10 +922,8 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         Ray shadow_rays[kMaxCameraShadowHits];
         float t_max[kMaxCameraShadowHits];
         int traced_lane[kMaxCameraShadowHits];  // the hit of each ray, in its part
-        // Which rays may pass over back faces: camera_shadow_skips' test, ray by ray.
-        const uint8_t* skippable = i < integrator.back_faces_skippable.size() && !integrator.back_faces_skippable[i].empty()
-                                       ? integrator.back_faces_skippable[i].data()
-                                       : nullptr;
+        // Which rays may pass over back faces: camera_shadow_may_skip, ray by ray.
+        const SkippableBackFaces* skippable = skippable_for(integrator, i);
         bool may_skip[kMaxCameraShadowHits];
         int ray_count = 0;
         for (int p = 0; p < part_count; ++p) {
@@ -936,12 +942,10 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
                                                                lanes.surface.geometric_normal.at(j), to_light.at(j),
                                                                part.offset[j]),
                                           to_light.at(j)};
-                if (skippable) {
-                    const Ray& camera_ray = part.rays[lanes.lane[j]];
-                    may_skip[ray_count] = camera_ray.origin == integrator.camera_center &&
-                                          origin_on_camera_side(lanes.surface.geometric_normal.at(j), to_light.at(j),
-                                                                -camera_ray.direction);
-                }
+                if (skippable)
+                    may_skip[ray_count] = camera_shadow_may_skip(integrator, *skippable, part.rays[lanes.lane[j]],
+                                                                 lanes.surface.geometric_normal.at(j), to_light.at(j),
+                                                                 part.offset[j], distance[j]);
                 t_max[ray_count] = distance[j];
                 traced_lane[ray_count++] = j;
             }
@@ -950,7 +954,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         bool blocked[kMaxCameraShadowHits];
         for (int first = 0; first < ray_count; first += tracer.lanes())
             tracer.occluded(shadow_rays + first, std::min(tracer.lanes(), ray_count - first), 0, t_max + first,
-                            blocked + first, {skippable, may_skip + first});
+                            blocked + first, {skippable ? skippable->instances.data() : nullptr, may_skip + first});
         for (int p = 0; p < part_count; ++p) {
             ShadowPart& part = parts[p];
             bool lit[kMaxPacketLanes];  // a lane is lit unless its shadow ray was blocked

@@ -613,7 +613,22 @@ TEST(RenderTest, ShadowRaysThatSkipBackFacesChangeNoPixelAndNoCount) {
     shadows.shadows = true;
     const Integrator integrator = make_integrator(scene, shadows);
     const std::vector<std::vector<uint8_t>> skippable{{1, 1, 0, 0}, {1, 1, 0, 0}, {1, 0, 0, 0}};
-    ASSERT_EQ(integrator.back_faces_skippable, skippable);
+    ASSERT_EQ(integrator.back_faces_skippable.size(), 3u);
+    for (size_t light = 0; light < 3; ++light) EXPECT_EQ(integrator.back_faces_skippable[light].instances, skippable[light]);
+
+    // Cones that lie (every child of the ball faces away from every direction) let every skipping
+    // shadow ray through the ball: each path must then lose the ball's shadows, so each path
+    // really skips. Only the ball's own shadow rays may skip, so only it lies.
+    Scene lying = scene;
+    for (NodeCones& cones : lying.meshes[0].cones)
+        for (int slot = 0; slot < kWideBvhWidth; ++slot) cones.reach[slot] = 0;
+    for (NodeCones& cones : lying.meshes[0].cones)
+        for (int slot = 0; slot < kWideBvhWidth; ++slot) {
+            // The sun's shadow rays go up the light's reversed direction: point every axis there.
+            cones.axis[0][slot] = static_cast<int8_t>(std::lround(127 * 0.5f / std::sqrt(1.61f)));
+            cones.axis[1][slot] = static_cast<int8_t>(std::lround(127 * 1.0f / std::sqrt(1.61f)));
+            cones.axis[2][slot] = static_cast<int8_t>(std::lround(127 * 0.6f / std::sqrt(1.61f)));
+        }
 
     struct Variant {
         const char* name;
@@ -638,6 +653,8 @@ TEST(RenderTest, ShadowRaysThatSkipBackFacesChangeNoPixelAndNoCount) {
         EXPECT_EQ(skipping_stats.rays, every_face_stats.rays) << variant.name;
         EXPECT_EQ(skipping_stats.shadow_rays, every_face_stats.shadow_rays) << variant.name;
         EXPECT_EQ(skipping_stats.secondary_rays, every_face_stats.secondary_rays) << variant.name;
+        const Image lied_to = render_image(lying, skipping);
+        EXPECT_FALSE(same_floats(lied_to, reference)) << variant.name << ": the cones are not read";
     }
     // Not vacuous: the shadows darken many pixels, of the ball on itself among them.
     RenderOptions unshadowed;
@@ -652,6 +669,43 @@ TEST(RenderTest, ShadowRaysThatSkipBackFacesChangeNoPixelAndNoCount) {
             const uint8_t* pixel = shadowed.at(x, y);
             ASSERT_TRUE(e.rgb8[0] == pixel[0] && e.rgb8[1] == pixel[1] && e.rgb8[2] == pixel[2]) << x << ", " << y;
         }
+}
+
+// A shadow ray ends its start's offset from the light, and the offset grows with the hit's
+// coordinates. Here a hit 1e4 away has an offset of 0.078, and a point light lies 0.03 outside
+// the box of a closed mesh turned inside out: the ray ends inside that mesh, which it enters
+// through faces that face away from it. Such rays must test every face (ends_clear_of_boxes);
+// the first version let them through, and every pixel lost its shadow.
+TEST(RenderTest, ShadowRaysEndingWithinTheirOffsetOfAMeshDoNotSkipItsBackFaces) {
+    SceneDesc desc;
+    desc.file = "far.txt";
+    const Vec3f hit_point{0, -1.03f, -1e4f}, normal{0, 0.6f, 0.8f}, eye{5, 0, 5};
+    desc.camera = perspective(eye, normalize(hit_point - eye), {0, 1, 0}, 0.02f, 16, 16);
+    desc.materials = {material({0.8f, 0.8f, 0.8f})};
+    desc.lights = {point_light({0, -1.03f, 0}, {1, 1, 1})};
+    desc.has_lights_block = true;
+    TriangleMesh inverted = smooth_sphere_mesh(40, 60);  // closed, of radius 1, every face turned inwards
+    for (size_t i = 0; i < inverted.indices.size(); i += 3) std::swap(inverted.indices[i + 1], inverted.indices[i + 2]);
+    inverted.normals.clear();
+    inverted.normal_indices.clear();
+    desc.meshes.push_back({"inverted.obj", inverted});
+    desc.root = group({mesh_object(0, 0), sphere(hit_point - normal * 100.0f, 100, 0)});
+    const Scene scene = build(std::move(desc));
+    RenderOptions shadows;
+    shadows.shadows = true;
+    ASSERT_EQ(make_integrator(scene, shadows).back_faces_skippable.at(0).instances, (std::vector<uint8_t>{1, 0}));
+    for (PacketIsa isa : {best_packet_isa(), PacketIsa::None}) {
+        RenderOptions skipping = shadows;
+        skipping.packet_isa = isa;
+        RenderOptions every_face = skipping;
+        every_face.skip_back_faces = false;
+        const Image reference = render_image(scene, every_face);
+        EXPECT_TRUE(same_floats(render_image(scene, skipping), reference)) << packet_isa_name(isa);
+        int shadowed = 0;  // not vacuous: the mesh shadows every pixel
+        for (int y = 0; y < reference.height; ++y)
+            for (int x = 0; x < reference.width; ++x) shadowed += reference.at(x, y) == Vec3f{0, 0, 0};
+        EXPECT_EQ(shadowed, reference.width * reference.height);
+    }
 }
 
 // Scenes at the edges of the window test's reasoning, found by a review (each rendered wrongly

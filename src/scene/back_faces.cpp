@@ -61,7 +61,12 @@ bool quantise_axis(Vec3d sum, int8_t q[3]) {
     const double length_of_sum = length(sum);
     if (!(length_of_sum > 0) || !std::isfinite(length_of_sum)) return false;
     const double c[3] = {sum.x / length_of_sum, sum.y / length_of_sum, sum.z / length_of_sum};
-    for (int a = 0; a < 3; ++a) q[a] = static_cast<int8_t>(std::clamp(std::lround(127.0 * c[a]), -127L, 127L));
+    for (int a = 0; a < 3; ++a) {
+        // Rounded half away from zero by truncating (std::lround is a library call, and this runs
+        // for every node and leaf); |127·c| <= 127.
+        const double scaled = 127.0 * c[a];
+        q[a] = static_cast<int8_t>(std::clamp(static_cast<int>(scaled + (scaled < 0 ? -0.5 : 0.5)), -127, 127));
+    }
     return true;
 }
 
@@ -175,12 +180,12 @@ LargeVector<NodeCones> build_normal_cones(const WideBvh& bvh, const GroupBlock* 
     return cones;
 }
 
-std::vector<uint8_t> back_faces_skippable(const Scene& scene, const Camera& camera, const Light& light) {
+SkippableBackFaces back_faces_skippable(const Scene& scene, const Camera& camera, const Light& light) {
     const Vec3f c = camera.center;
     if (camera.projection != Camera::Projection::Perspective || camera.lens_radius != 0 || camera.t_min != 0 ||
         !std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z))
         return {};
-    std::vector<uint8_t> skippable;
+    SkippableBackFaces skippable;
     for (size_t id = 0; id < scene.instances.size(); ++id) {
         const Instance& instance = scene.instances[id];
         if (instance.kind != ShapeKind::Mesh || instance.transform != kNoTransform) continue;
@@ -188,14 +193,21 @@ std::vector<uint8_t> back_faces_skippable(const Scene& scene, const Camera& came
         if (mesh.cones.empty() || mesh.bounds.is_empty()) continue;
         if (!outside_box(camera.center, mesh.bounds, 0)) continue;
         if (light.kind == Light::Kind::Point) {
-            // A shadow ray ends within its start's offset from the light (about 1e-5 of these
-            // magnitudes at most) plus rounding: a thousandth of them keeps that end outside too.
+            // Clearly outside, so that an instance the light nearly touches does not hold the
+            // clearance, and with it every ray's skipping, down to nothing.
             const float scale = std::max({max_abs(light.position), max_abs(mesh.bounds.lower),
                                           max_abs(mesh.bounds.upper), max_abs(camera.center)});
             if (!std::isfinite(scale) || !outside_box(light.position, mesh.bounds, 1e-3f * scale)) continue;
+            // How far outside: the light's coordinates and the box's are exact, their differences
+            // within an ulp of the larger; 1e-5 of the magnitude covers that many times over.
+            const Vec3f p = light.position;
+            const Bounds3f& b = mesh.bounds;
+            const float outside = std::max({b.lower.x - p.x, p.x - b.upper.x, b.lower.y - p.y, p.y - b.upper.y,
+                                            b.lower.z - p.z, p.z - b.upper.z});
+            skippable.light_clearance = std::min(skippable.light_clearance, outside - 1e-5f * scale);
         }
-        if (skippable.empty()) skippable.resize(scene.instances.size(), 0);
-        skippable[id] = 1;
+        if (skippable.instances.empty()) skippable.instances.resize(scene.instances.size(), 0);
+        skippable.instances[id] = 1;
     }
     return skippable;
 }

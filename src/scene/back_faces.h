@@ -11,15 +11,20 @@
 //     outside, and reaches its first hit without crossing anything, so it arrives from outside;
 //   - the shadow ray leaves the hit's plane on the camera's side (origin_on_camera_side), so it
 //     starts where the camera ray arrived from;
-//   - the light is a directional one (the ray leaves every box), or a point light clearly outside
-//     the mesh's box.
+//   - the light is a directional one (the ray goes on for ever), or a point light outside the
+//     mesh's box by more than how far the ray's end may lie from the light: its start's offset
+//     from the hit and rounding (ends_clear_of_boxes). Without that, the end of a ray from a far
+//     hit, whose offset is large, could lie inside a mesh turned inside out, where a ray can leave
+//     through faces that face away from it.
 // The image can then differ from testing every face only where the answer is already at the
 // edge of what float arithmetic decides: a ray grazing a silhouette edge, or a surface closer to
 // the hit than the offset that shadow rays start from.
-// Entry points: NodeCones, mesh_is_closed, build_normal_cones, back_faces_skippable.
+// Entry points: NodeCones, mesh_is_closed, build_normal_cones, back_faces_skippable,
+// ends_clear_of_boxes.
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "base/large_allocator.h"
@@ -39,7 +44,7 @@ struct Scene;
 /// lies within τ/127 of q/127. A ray direction d with q·d > τ·|d| (in float, as the kernels
 /// compute it: (qx·dx + qy·dy) + qz·dz and √((dx·dx + dy·dy) + dz·dz)) has n·d > 0 for every one
 /// of those triangles: all of them face away from it. τ includes a margin for that arithmetic's
-/// rounding (see build_normal_cones). 32 bytes, one cache line per node.
+/// rounding (see build_normal_cones). 32 bytes per node, half a cache line.
 struct alignas(32) NodeCones {
     int8_t axis[3][kWideBvhWidth];  ///< axis[a][slot]: component a of the child's axis q
     uint8_t reach[kWideBvhWidth];   ///< the child's τ; kNoCone where it cannot tell
@@ -80,12 +85,32 @@ bool mesh_is_closed(const TriangleMesh& mesh, int threads);
 /// no clear normal (a sliver) gets kNoCone, and so do its ancestors. Runs on `threads` threads.
 LargeVector<NodeCones> build_normal_cones(const WideBvh& bvh, const GroupBlock* groups, int threads);
 
-/// For camera shadow rays towards `light` (shadow rays from camera hits, leaving on the camera's
-/// side): for each instance of the scene, 1 where they may skip its back faces: an untransformed
-/// mesh that has cones (it is closed), the camera a pinhole whose rays start at its centre
-/// (t_min 0) outside the mesh's box, and the light directional or a point clearly outside the
-/// box. Empty when no instance qualifies.
-std::vector<uint8_t> back_faces_skippable(const Scene& scene, const Camera& camera, const Light& light);
+/// What the shadow rays of camera hits towards one light may skip (those that leave their hit on
+/// the camera's side and end clear of the boxes: ends_clear_of_boxes).
+struct SkippableBackFaces {
+    /// For each instance of the scene, 1 where they may skip its back faces: an untransformed mesh
+    /// that has cones (it is closed), the camera a pinhole whose rays start at its centre (t_min
+    /// 0) outside the mesh's box, and the light directional or a point outside the box by more
+    /// than a thousandth of the coordinates' magnitude. Empty when no instance qualifies.
+    std::vector<uint8_t> instances;
+    /// A point light's least distance outside those instances' boxes (along the axis where it is
+    /// farthest out), less a margin for the rounding of its coordinates; infinity for a
+    /// directional light.
+    float light_clearance = std::numeric_limits<float>::infinity();
+};
+
+SkippableBackFaces back_faces_skippable(const Scene& scene, const Camera& camera, const Light& light);
+
+/// Whether a shadow ray that starts `offset` (ray_offset_distance) off its hit and runs
+/// `distance` to the light (infinity: a directional light, or one too far to say, and the ray
+/// goes on for ever) ends outside the boxes `skippable` relies on. It ends within offset plus
+/// rounding (a few ulps of the distance and of the hit's coordinates, which the offset exceeds)
+/// of the light; this allows three offsets and 1e-5 of the distance. Both shading paths ask it
+/// with the same numbers.
+inline bool ends_clear_of_boxes(const SkippableBackFaces& skippable, float offset, float distance) {
+    if (distance == std::numeric_limits<float>::infinity()) return true;
+    return 3 * offset + 1e-5f * distance < skippable.light_clearance;
+}
 
 /// Whether a shadow ray from a camera hit starts on the camera's side of the hit's plane:
 /// offset_ray_origin moves it off the plane of `geometric_normal` to the side of `to_light`, and

@@ -23,6 +23,12 @@ namespace {
 
 using namespace test;  // tests/scene_builders.h and tests/trace_test_support.h
 
+// The mesh with every triangle wound the other way: still closed, its faces all turned inwards.
+TriangleMesh inside_out(TriangleMesh mesh) {
+    for (size_t i = 0; i < mesh.indices.size(); i += 3) std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
+    return mesh;
+}
+
 // A closed UV sphere with every vertex moved along its radius by up to `bumpiness` of it: closed,
 // outward, with faces turned every way around each vertex.
 TriangleMesh bumpy_sphere(std::mt19937& rng, Vec3f centre, float radius, int rings, int segments, float bumpiness) {
@@ -150,9 +156,11 @@ TEST(NormalCones, OnlyClosedMeshesHaveThemAndAChildWithASliverCannotBeSkipped) {
     EXPECT_TRUE(sliver_seen);
 }
 
-// Rays that start and end outside a closed mesh: shadow rays from points just off its surface on
-// the outside towards the sun or a light outside its box, and rays between random points outside
-// its box. Skipping changes none of their answers, on any path.
+// Rays that start and end outside closed meshes: shadow rays from points just off one's surface
+// on the outside towards the sun or a light outside every box, and rays between random points
+// outside the boxes. Skipping changes none of their answers, on any path, with meshes turned
+// inside out too (a ray enters those through faces that face away from it, and leaves through
+// faces that face it).
 TEST(BackFaceSkipping, RaysBetweenPointsOutsideAClosedMeshGetTheSameAnswersOnEveryPath) {
     std::mt19937 rng(29);
     std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
@@ -160,7 +168,16 @@ TEST(BackFaceSkipping, RaysBetweenPointsOutsideAClosedMeshGetTheSameAnswersOnEve
     desc.root->children.push_back(mesh_object(add_mesh(desc, bumpy_sphere(rng, {0, 0, 0}, 2, 40, 50, 0.06f))));
     desc.root->children.push_back(mesh_object(add_mesh(desc, bumpy_sphere(rng, {3.5f, 1, 0}, 1, 20, 24, 0.1f))));
     desc.root->children.push_back(mesh_object(add_mesh(desc, cube_mesh())));  // inside the big sphere
+    desc.root->children.push_back(
+        mesh_object(add_mesh(desc, inside_out(bumpy_sphere(rng, {-3.5f, -1, 0.5f}, 1.2f, 20, 24, 0.1f)))));
+    TriangleMesh hollow = inside_out(bumpy_sphere(rng, {0, -3.8f, 0}, 1.1f, 16, 20, 0.05f));  // a shell: the
+    const TriangleMesh outer = bumpy_sphere(rng, {0, -3.8f, 0}, 1.4f, 16, 20, 0.05f);         // outer side out,
+    const uint32_t base = static_cast<uint32_t>(hollow.positions.size());                      // the inner in
+    hollow.positions.insert(hollow.positions.end(), outer.positions.begin(), outer.positions.end());
+    for (uint32_t i : outer.indices) hollow.indices.push_back(base + i);
+    desc.root->children.push_back(mesh_object(add_mesh(desc, hollow)));
     const Scene scene = scene_with(std::move(desc));
+    for (const MeshShape& mesh : scene.meshes) ASSERT_FALSE(mesh.cones.empty());
     const std::vector<uint8_t> all(scene.instances.size(), 1);
     int blocked_count = 0, total = 0;
     for (PacketIsa isa : {PacketIsa::None, PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2, PacketIsa::Avx512}) {
@@ -195,11 +212,12 @@ TEST(BackFaceSkipping, RaysBetweenPointsOutsideAClosedMeshGetTheSameAnswersOnEve
                         rays[k] = {origin, normalize(light - origin)};
                         t_max[k] = length(light - origin);
                         break;
-                    default: {  // between two points outside the boxes
+                    default: {  // between two points outside the boxes, or from one on for ever
                         const Vec3f from = normalize(Vec3f{u(rng), u(rng), u(rng)}) * (7 + u01(rng));
                         const Vec3f to = normalize(Vec3f{u(rng), u(rng), u(rng)}) * (7 + u01(rng));
-                        rays[k] = {from, (to - from) * (0.5f + u01(rng))};
-                        t_max[k] = k % 2 ? INFINITY : 1 / (0.5f + u01(rng));
+                        const float scale = 0.5f + u01(rng);
+                        rays[k] = {from, (to - from) * scale};
+                        t_max[k] = k % 2 ? INFINITY : 1 / scale;
                     }
                 }
                 may_skip[k] = k % 5 != 4;
@@ -271,35 +289,52 @@ TEST(BackFacesSkippable, OnlyUntransformedClosedMeshesWithTheCameraAndTheLightOu
     sun.kind = Light::Kind::Directional;
     sun.direction = normalize(Vec3f{0, -1, -1});
     const std::vector<uint8_t> expected{1, 0, 0, 0};
-    EXPECT_EQ(back_faces_skippable(scene, camera_at({0, 0, 10}), sun), expected);
-    EXPECT_TRUE(back_faces_skippable(scene, camera_at({0.5f, 0.5f, 0.5f}), sun).empty());  // camera inside the box
-    // The box's own faces still count as outside for the camera; not for a light, which needs a
-    // thousandth of the largest magnitude about (here 1e-2 of 10).
-    EXPECT_EQ(back_faces_skippable(scene, camera_at({0, 0, 1.0001f}), sun), expected);
+    const SkippableBackFaces for_sun = back_faces_skippable(scene, camera_at({0, 0, 10}), sun);
+    EXPECT_EQ(for_sun.instances, expected);
+    EXPECT_EQ(for_sun.light_clearance, INFINITY);
+    EXPECT_TRUE(back_faces_skippable(scene, camera_at({0.5f, 0.5f, 0.5f}), sun).instances.empty());  // inside the box
+    // Just outside the box is outside for the camera (exactly on a face is not: a strict test);
+    // a light needs a thousandth of the largest magnitude about (here 1e-2 of 10).
+    EXPECT_EQ(back_faces_skippable(scene, camera_at({0, 0, 1.0001f}), sun).instances, expected);
     Light lamp;
     lamp.kind = Light::Kind::Point;
     lamp.position = {0, 3, 0};
-    EXPECT_EQ(back_faces_skippable(scene, camera_at({0, 0, 10}), lamp), expected);
+    const SkippableBackFaces for_lamp = back_faces_skippable(scene, camera_at({0, 0, 10}), lamp);
+    EXPECT_EQ(for_lamp.instances, expected);
+    // 2 outside the box (its bounds are padded by a few ulps), less 1e-5 of the magnitude, 10.
+    EXPECT_NEAR(for_lamp.light_clearance, 2 - 1e-4f, 1e-6f);
     lamp.position = {0, 0.5f, 0};  // inside
-    EXPECT_TRUE(back_faces_skippable(scene, camera_at({0, 0, 10}), lamp).empty());
+    EXPECT_TRUE(back_faces_skippable(scene, camera_at({0, 0, 10}), lamp).instances.empty());
     lamp.position = {0, 1.005f, 0};  // outside, but by less than the margin
-    EXPECT_TRUE(back_faces_skippable(scene, camera_at({0, 0, 10}), lamp).empty());
+    EXPECT_TRUE(back_faces_skippable(scene, camera_at({0, 0, 10}), lamp).instances.empty());
     lamp.position = {0, 1.02f, 0};
-    EXPECT_EQ(back_faces_skippable(scene, camera_at({0, 0, 10}), lamp), expected);
+    EXPECT_EQ(back_faces_skippable(scene, camera_at({0, 0, 10}), lamp).instances, expected);
 
     // Cameras whose rays do not all start at one point outside, from t = 0: none.
     Camera lens = camera_at({0, 0, 10});
     lens.lens_radius = 0.1f;
-    EXPECT_TRUE(back_faces_skippable(scene, lens, sun).empty());
+    EXPECT_TRUE(back_faces_skippable(scene, lens, sun).instances.empty());
     Camera late = camera_at({0, 0, 10});
     late.t_min = 0.5f;
-    EXPECT_TRUE(back_faces_skippable(scene, late, sun).empty());
+    EXPECT_TRUE(back_faces_skippable(scene, late, sun).instances.empty());
     Camera orthographic = camera_at({0, 0, 10});
     orthographic.projection = Camera::Projection::Orthographic;
-    EXPECT_TRUE(back_faces_skippable(scene, orthographic, sun).empty());
+    EXPECT_TRUE(back_faces_skippable(scene, orthographic, sun).instances.empty());
     Camera lost = camera_at({0, 0, 10});
     lost.center = {NAN, 0, 10};
-    EXPECT_TRUE(back_faces_skippable(scene, lost, sun).empty());
+    EXPECT_TRUE(back_faces_skippable(scene, lost, sun).instances.empty());
+}
+
+TEST(EndsClearOfBoxes, AShadowRayEndsWithinThreeOffsetsAndATenThousandthOfItsLengthOfTheLight) {
+    SkippableBackFaces skippable;
+    skippable.instances = {1};
+    EXPECT_TRUE(ends_clear_of_boxes(skippable, 1, INFINITY));  // a sun: the ray goes on for ever
+    skippable.light_clearance = 1;
+    EXPECT_TRUE(ends_clear_of_boxes(skippable, 0.3f, 1000));    // 0.9 + 0.01 < 1
+    EXPECT_FALSE(ends_clear_of_boxes(skippable, 0.33f, 1000));  // 0.99 + 0.01
+    EXPECT_FALSE(ends_clear_of_boxes(skippable, 0.1f, 1e5f));   // 0.3 + 1
+    EXPECT_FALSE(ends_clear_of_boxes(skippable, NAN, 1));
+    EXPECT_FALSE(ends_clear_of_boxes(skippable, 0.1f, NAN));
 }
 
 TEST(OriginOnCameraSide, TheShadowRayMustLeaveThePlaneOnTheSideTheCameraRayCameFrom) {
