@@ -17,6 +17,7 @@
 
 #include "random_scene.h"
 #include "reference_render.h"
+#include "render/integrator.h"
 #include "render/render.h"
 #include "sceneio/load_scene.h"
 
@@ -133,6 +134,81 @@ TEST_P(DifferentialRender, EveryPathAgreesWithBruteForceOnRandomScenes) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, DifferentialRender, ::testing::Range(0, kBlocks));
+
+// Shadow rays of camera hits skip the back faces of closed meshes where that cannot change their
+// answer (scene/back_faces.h). On random scenes where half the meshes are closed (some passing
+// through themselves, some wound inwards), every path's shaded image with shadows is the
+// brute-force reference's, which tests every face. Returns whether some light's shadow rays
+// could skip some instance (the comparison is vacuous for the others); false also on failure.
+bool check_closed_mesh_seed(uint64_t seed, int& failures) {
+    Choices choices(seed);
+    SceneLimits limits;
+    limits.closed_meshes = true;
+    const RandomScene random = random_scene(choices, limits);
+    RandomRender settings = random_render(choices, kWidth, kHeight, {RenderMode::Shaded});
+    settings.render.shadows = true;
+    settings.render.transparent_shadows = false;
+    settings.lens_radius = 0;  // a thin lens's rays start all over it: nothing would skip
+    SceneLoadOptions load;
+    load.in_memory_meshes = &random.meshes;
+    Scene scene;
+    try {
+        scene = build_scene(load_scene_text(random.text, "random.txt", load), settings.build);
+    } catch (const InputError& error) {
+        ADD_FAILURE() << "a generated scene was refused:\n" << error.what() << reproduction(seed, random, settings);
+        ++failures;
+        return false;
+    }
+    // One scene in three looks out from the middle of a mesh's box: the camera may be inside a
+    // closed mesh, whose faces must then all be tested.
+    if (seed % 3 == 0)
+        for (const Instance& instance : scene.instances)
+            if (instance.kind == ShapeKind::Mesh && instance.transform == kNoTransform &&
+                !scene.meshes[instance.shape].bounds.is_empty()) {
+                const Bounds3f& box = scene.meshes[instance.shape].bounds;
+                scene.camera.center = (box.lower + box.upper) * 0.5f;
+                break;
+            }
+    bool skips = false;
+    for (const SkippableBackFaces& light : make_integrator(scene, settings.render).back_faces_skippable)
+        skips = skips || !light.instances.empty();
+    const Image expected = reference_render(ReferenceScene(scene), settings.render);
+    RenderOptions options = settings.render;
+    for (const PacketIsa isa : kAllIsas) {
+        if (!packet_isa_available(isa)) continue;
+        options.packet_isa = isa;
+        const Image image = render_image(scene, options);
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x) {
+                const Vec3f a = image.at(x, y), b = expected.at(x, y);
+                if (same_float(a.x, b.x) && same_float(a.y, b.y) && same_float(a.z, b.z)) continue;
+                ADD_FAILURE() << packet_isa_name(isa) << " differs from the reference at pixel (" << x << ", " << y
+                              << ") counted from the bottom: (" << a.x << ", " << a.y << ", " << a.z << ") vs ("
+                              << b.x << ", " << b.y << ", " << b.z << ")\n"
+                              << reproduction(seed, random, settings);
+                ++failures;
+                return false;
+            }
+    }
+    return skips;
+}
+
+class DifferentialClosedMeshes : public ::testing::TestWithParam<int> {};
+
+// 4,000 scenes in 4 blocks (a fifth of them have instances to skip; each block takes about 0.4 s).
+constexpr uint64_t kClosedMeshSeedsPerBlock = 1000;
+
+TEST_P(DifferentialClosedMeshes, ShadowRaysThatSkipBackFacesAgreeWithBruteForce) {
+    const uint64_t first = 1000000 + static_cast<uint64_t>(GetParam()) * kClosedMeshSeedsPerBlock;
+    int failures = 0, skipping = 0;
+    for (uint64_t seed = first; seed < first + kClosedMeshSeedsPerBlock && failures < 3; ++seed)
+        skipping += check_closed_mesh_seed(seed, failures) ? 1 : 0;
+    std::printf("%d of %llu scenes had shadow rays that could skip back faces\n", skipping,
+                static_cast<unsigned long long>(kClosedMeshSeedsPerBlock));
+    EXPECT_GT(skipping, static_cast<int>(kClosedMeshSeedsPerBlock) / 10);
+}
+
+INSTANTIATE_TEST_SUITE_P(Seeds, DifferentialClosedMeshes, ::testing::Range(0, 4));
 
 // The generator and the reference are themselves tested: a reference that found nothing, or
 // scenes that never reach the interesting paths, would make the comparison above vacuous.

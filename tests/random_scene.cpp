@@ -250,7 +250,7 @@ private:
             path = it->first;
         } else {
             path = "mesh" + std::to_string(out_.meshes.size()) + ".obj";
-            out_.meshes[path] = obj_file();
+            out_.meshes[path] = limits_.closed_meshes && c_.one_in(2) ? closed_obj_file() : obj_file();
         }
         const std::string quoted = c_.one_in(4) ? "\"" + path + "\"" : path;
         return "TriangleMesh { obj_file " + quoted + " }\n";
@@ -289,6 +289,53 @@ private:
                 if (form == 3) text += "/" + std::to_string(t) + "/" + std::to_string(n);
             }
             text += eol;
+        }
+        return text;
+    }
+
+    // A closed mesh: a UV sphere of 2 to 5 rings and 3 to 8 segments, its poles and ring vertices
+    // moved along their radii, or one time in three anywhere in its box (it may then pass through
+    // itself), wound outwards or, one time in three, inwards.
+    std::string closed_obj_file() {
+        const int rings = 2 + static_cast<int>(c_.below(4)), segments = 3 + static_cast<int>(c_.below(6));
+        const float scale = c_.between(1, 2.5f), dx = c_.between(-1.5f, 1.5f), dy = c_.between(-1.5f, 1.5f),
+                    dz = c_.between(-1.5f, 1.5f);
+        const bool anywhere = c_.one_in(3), inwards = c_.one_in(3);
+        std::string text = "# a closed mesh\n";
+        auto vertex = [&](float x, float y, float z) {
+            const float r = anywhere ? 1.0f : c_.between(0.3f, 1);
+            if (anywhere) {
+                x = c_.between(-1, 1);
+                y = c_.between(-1, 1);
+                z = c_.between(-1, 1);
+            }
+            text += words({"v", number_text(dx + scale * r * x), number_text(dy + scale * r * y),
+                           number_text(dz + scale * r * z)}) +
+                    "\n";
+        };
+        vertex(0, 1, 0);
+        for (int ring = 1; ring < rings; ++ring) {
+            const float theta = 3.14159265f * static_cast<float>(ring) / static_cast<float>(rings);
+            for (int s = 0; s < segments; ++s) {
+                const float phi = 6.2831853f * static_cast<float>(s) / static_cast<float>(segments);
+                vertex(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+            }
+        }
+        vertex(0, -1, 0);
+        const int south = 2 + (rings - 1) * segments;  // OBJ numbers vertices from 1
+        auto at = [&](int ring, int s) { return 2 + (ring - 1) * segments + s % segments; };
+        auto face = [&](int a, int b, int c) {
+            text += inwards ? words({"f", std::to_string(a), std::to_string(c), std::to_string(b)})
+                            : words({"f", std::to_string(a), std::to_string(b), std::to_string(c)});
+            text += "\n";
+        };
+        for (int s = 0; s < segments; ++s) {
+            face(1, at(1, s + 1), at(1, s));
+            for (int ring = 1; ring + 1 < rings; ++ring) {
+                face(at(ring, s), at(ring, s + 1), at(ring + 1, s + 1));
+                face(at(ring, s), at(ring + 1, s + 1), at(ring + 1, s));
+            }
+            face(south, at(rings - 1, s), at(rings - 1, s + 1));
         }
         return text;
     }

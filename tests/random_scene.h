@@ -53,6 +53,11 @@ struct SceneLimits {
     int max_mesh_vertices = 12; ///< per OBJ file
     int max_deep_nesting = 0;   ///< now and then, an object wrapped in up to this many more levels
     bool extreme_numbers = false;  ///< now and then, numbers at the edges of the float range
+    /// Half the OBJ files closed meshes (every edge used once each way: a UV sphere of a few rings
+    /// and segments, its vertices moved along their radii or anywhere in the mesh's box, so that
+    /// it may pass through itself, wound either way), for the tests of skipping back faces
+    /// (scene/back_faces.h). Off, no choice is spent on it: the fuzzer's inputs keep their scenes.
+    bool closed_meshes = false;
 };
 
 struct RandomScene {
