@@ -331,10 +331,12 @@ TEST(CliTest, OneThreadAndTwoThreadsWriteTheSameImage) {
     ASSERT_EQ(run_raycast("s.txt one.ppm --threads 1 --shadows -q", dir).exit_code, 0);
     ASSERT_EQ(run_raycast("s.txt two.ppm --threads 2 --shadows -q --tile 5", dir).exit_code, 0);
     ASSERT_EQ(run_raycast("s.txt scalar.ppm -j 2 --shadows -q --no-packets", dir).exit_code, 0);
+    ASSERT_EQ(run_raycast("s.txt every_face.ppm -j 2 --shadows -q --test-every-face", dir).exit_code, 0);
     const std::string one = read_file(dir + "/one.ppm");
     ASSERT_TRUE(parse_ppm(one).ok);
     EXPECT_EQ(read_file(dir + "/two.ppm"), one);
     EXPECT_EQ(read_file(dir + "/scalar.ppm"), one);
+    EXPECT_EQ(read_file(dir + "/every_face.ppm"), one);
     // The image is not trivially uniform: the sphere, floor, quad and background all show.
     std::set<std::vector<uint8_t>> colours;
     const Ppm image = parse_ppm(one);

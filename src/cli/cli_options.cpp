@@ -68,6 +68,11 @@ Options:
                              portable, or none (one ray at a time); default auto, the
                              widest this CPU runs. The image is the same with every choice.
       --no-packets           the same as --simd none
+      --test-every-face      shadow rays test every face of closed meshes; by default a
+                             camera hit's shadow rays pass over the faces that face away from
+                             them, which can let light in only where another surface lies
+                             nearer the hit than the rays' start offset (about 1e-5 of the
+                             coordinates: where objects touch)
 
 view serves a live viewer on http://127.0.0.1:PORT/ (--port 0, the default, picks a free port;
 --host another address, to be reachable from elsewhere): the render, refined while nothing
@@ -452,6 +457,8 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             options.render.tile_size = parse_positive_int(args.value_for(arg), arg, 4096);
         } else if (arg == "--no-packets") {
             options.render.packet_isa = PacketIsa::None;
+        } else if (arg == "--test-every-face") {
+            options.render.skip_back_faces = false;
         } else if (arg == "--simd") {
             const std::string name = args.value_for(arg);
             PacketIsa isa = PacketIsa::None;
