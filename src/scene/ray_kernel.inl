@@ -333,6 +333,9 @@ inline bool occluded_leaf(const GroupBlock* groups, uint32_t first_block, const 
     }
 }
 
+// For walks that skip no child (traverse_wide's `skipped`).
+inline unsigned no_slots(uint32_t, unsigned) { return 0; }
+
 }  // namespace
 
 void intersect(const MeshView& mesh, const Ray& ray, float t_min, uint32_t object, Hit& best, uint64_t* nodes_visited) {
@@ -347,13 +350,12 @@ void intersect(const MeshView& mesh, const Ray& ray, float t_min, uint32_t objec
         intersect_leaf(mesh.groups, first_block, r, object, best);
         return false;
     };
-    auto none = [](uint32_t, unsigned) { return 0u; };
     if (nodes_visited)
-        traverse_wide<true, false>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nodes_visited, none);
+        traverse_wide<true, false>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nodes_visited, no_slots);
     else if (t_min >= 0)
-        traverse_wide<false, true>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nullptr, none);
+        traverse_wide<false, true>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nullptr, no_slots);
     else
-        traverse_wide<false, false>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nullptr, none);
+        traverse_wide<false, false>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nullptr, no_slots);
 }
 
 bool occluded(const MeshView& mesh, const Ray& ray, float t_min, float t_max) {
@@ -367,6 +369,10 @@ bool occluded(const MeshView& mesh, const Ray& ray, float t_min, float t_max) {
             have_group_ray = true;
         }
         return occluded_leaf(mesh.groups, first_block, r, splat8(t_max));
+    };
+    auto walk = [&](auto&& skipped) {
+        if (t_min >= 0) return traverse_wide<false, true, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, skipped);
+        return traverse_wide<false, false, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, skipped);
     };
     const Vec3f d = ray.direction;
     const float length = mesh.cones ? __builtin_sqrtf(d.x * d.x + d.y * d.y + d.z * d.z) : 0.0f;
@@ -385,13 +391,9 @@ bool occluded(const MeshView& mesh, const Ray& ray, float t_min, float t_max) {
             }
             return away;
         };
-        if (t_min >= 0)
-            return traverse_wide<false, true, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, faces_away);
-        return traverse_wide<false, false, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, faces_away);
+        return walk(faces_away);
     }
-    auto none = [](uint32_t, unsigned) { return 0u; };
-    if (t_min >= 0) return traverse_wide<false, true, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, none);
-    return traverse_wide<false, false, false>(mesh.nodes, ray, t_min, cull, visit_leaf, nullptr, none);
+    return walk(no_slots);
 }
 
 void test_group(const GroupBlock* group, const Ray& ray, float t_min, GroupLanes& lanes) {
