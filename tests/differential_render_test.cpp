@@ -61,6 +61,28 @@ std::string reproduction(uint64_t seed, const RandomScene& random, const RandomR
     return text;
 }
 
+// Whether every path's render of the scene with `options` is `expected` bit for bit; reports the
+// first pixel that differs.
+bool renders_as_reference(const Scene& scene, RenderOptions options, const Image& expected, uint64_t seed,
+                          const RandomScene& random, const RandomRender& settings) {
+    for (const PacketIsa isa : kAllIsas) {
+        if (!packet_isa_available(isa)) continue;
+        options.packet_isa = isa;
+        const Image image = render_image(scene, options);
+        for (int y = 0; y < kHeight; ++y)
+            for (int x = 0; x < kWidth; ++x) {
+                const Vec3f a = image.at(x, y), b = expected.at(x, y);
+                if (same_float(a.x, b.x) && same_float(a.y, b.y) && same_float(a.z, b.z)) continue;
+                ADD_FAILURE() << packet_isa_name(isa) << " differs from the reference at pixel (" << x << ", " << y
+                              << ") counted from the bottom: (" << a.x << ", " << a.y << ", " << a.z << ") vs ("
+                              << b.x << ", " << b.y << ", " << b.z << ")\n"
+                              << reproduction(seed, random, settings);
+                return false;
+            }
+    }
+    return true;
+}
+
 // Renders one random scene every way and compares; returns false at the first difference.
 bool check_seed(uint64_t seed) {
     Choices choices(seed);
@@ -82,22 +104,7 @@ bool check_seed(uint64_t seed) {
     const ReferenceScene reference(scene);
     const Image expected = reference_render(reference, settings.render);
 
-    RenderOptions options = settings.render;
-    for (const PacketIsa isa : kAllIsas) {
-        if (!packet_isa_available(isa)) continue;
-        options.packet_isa = isa;
-        const Image image = render_image(scene, options);
-        for (int y = 0; y < kHeight; ++y)
-            for (int x = 0; x < kWidth; ++x) {
-                const Vec3f a = image.at(x, y), b = expected.at(x, y);
-                if (same_float(a.x, b.x) && same_float(a.y, b.y) && same_float(a.z, b.z)) continue;
-                ADD_FAILURE() << packet_isa_name(isa) << " differs from the reference at pixel (" << x << ", " << y
-                              << ") counted from the bottom: (" << a.x << ", " << a.y << ", " << a.z << ") vs ("
-                              << b.x << ", " << b.y << ", " << b.z << ")\n"
-                              << reproduction(seed, random, settings);
-                return false;
-            }
-    }
+    if (!renders_as_reference(scene, settings.render, expected, seed, random, settings)) return false;
 
     // The rays shading traces start anywhere and point anywhere, with any t range.
     for (int k = 0; k < kRandomRays; ++k) {
@@ -148,7 +155,7 @@ bool check_closed_mesh_seed(uint64_t seed, int& failures) {
     RandomRender settings = random_render(choices, kWidth, kHeight, {RenderMode::Shaded});
     settings.render.shadows = true;
     settings.render.transparent_shadows = false;
-    settings.lens_radius = 0;  // a thin lens's rays start all over it: nothing would skip
+    settings.lens_radius = 0;  // no lens is applied here (a thin lens's rays would skip nothing): say so
     SceneLoadOptions load;
     load.in_memory_meshes = &random.meshes;
     Scene scene;
@@ -173,22 +180,9 @@ bool check_closed_mesh_seed(uint64_t seed, int& failures) {
     for (const SkippableBackFaces& light : make_integrator(scene, settings.render).back_faces_skippable)
         skips = skips || !light.instances.empty();
     const Image expected = reference_render(ReferenceScene(scene), settings.render);
-    RenderOptions options = settings.render;
-    for (const PacketIsa isa : kAllIsas) {
-        if (!packet_isa_available(isa)) continue;
-        options.packet_isa = isa;
-        const Image image = render_image(scene, options);
-        for (int y = 0; y < kHeight; ++y)
-            for (int x = 0; x < kWidth; ++x) {
-                const Vec3f a = image.at(x, y), b = expected.at(x, y);
-                if (same_float(a.x, b.x) && same_float(a.y, b.y) && same_float(a.z, b.z)) continue;
-                ADD_FAILURE() << packet_isa_name(isa) << " differs from the reference at pixel (" << x << ", " << y
-                              << ") counted from the bottom: (" << a.x << ", " << a.y << ", " << a.z << ") vs ("
-                              << b.x << ", " << b.y << ", " << b.z << ")\n"
-                              << reproduction(seed, random, settings);
-                ++failures;
-                return false;
-            }
+    if (!renders_as_reference(scene, settings.render, expected, seed, random, settings)) {
+        ++failures;
+        return false;
     }
     return skips;
 }

@@ -5,6 +5,8 @@
 
 #include "base/error.h"
 #include "math/mat4.h"
+#include "scene_builders.h"
+#include "sceneio/write_obj.h"
 
 namespace raycast::test {
 
@@ -301,43 +303,17 @@ private:
         const float scale = c_.between(1, 2.5f), dx = c_.between(-1.5f, 1.5f), dy = c_.between(-1.5f, 1.5f),
                     dz = c_.between(-1.5f, 1.5f);
         const bool anywhere = c_.one_in(3), inwards = c_.one_in(3);
-        std::string text = "# a closed mesh\n";
-        auto vertex = [&](float x, float y, float z) {
+        TriangleMesh mesh = sphere_mesh({0, 0, 0}, 1, rings, segments);  // tests/scene_builders.h
+        for (Vec3f& p : mesh.positions) {
             const float r = anywhere ? 1.0f : c_.between(0.3f, 1);
             if (anywhere) {
-                x = c_.between(-1, 1);
-                y = c_.between(-1, 1);
-                z = c_.between(-1, 1);
+                p.x = c_.between(-1, 1);
+                p.y = c_.between(-1, 1);
+                p.z = c_.between(-1, 1);
             }
-            text += words({"v", number_text(dx + scale * r * x), number_text(dy + scale * r * y),
-                           number_text(dz + scale * r * z)}) +
-                    "\n";
-        };
-        vertex(0, 1, 0);
-        for (int ring = 1; ring < rings; ++ring) {
-            const float theta = 3.14159265f * static_cast<float>(ring) / static_cast<float>(rings);
-            for (int s = 0; s < segments; ++s) {
-                const float phi = 6.2831853f * static_cast<float>(s) / static_cast<float>(segments);
-                vertex(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-            }
+            p = {dx + scale * r * p.x, dy + scale * r * p.y, dz + scale * r * p.z};
         }
-        vertex(0, -1, 0);
-        const int south = 2 + (rings - 1) * segments;  // OBJ numbers vertices from 1
-        auto at = [&](int ring, int s) { return 2 + (ring - 1) * segments + s % segments; };
-        auto face = [&](int a, int b, int c) {
-            text += inwards ? words({"f", std::to_string(a), std::to_string(c), std::to_string(b)})
-                            : words({"f", std::to_string(a), std::to_string(b), std::to_string(c)});
-            text += "\n";
-        };
-        for (int s = 0; s < segments; ++s) {
-            face(1, at(1, s + 1), at(1, s));
-            for (int ring = 1; ring + 1 < rings; ++ring) {
-                face(at(ring, s), at(ring, s + 1), at(ring + 1, s + 1));
-                face(at(ring, s), at(ring + 1, s + 1), at(ring + 1, s));
-            }
-            face(south, at(rings - 1, s), at(rings - 1, s + 1));
-        }
-        return text;
+        return "# a closed mesh\n" + obj_text(inwards ? inside_out(std::move(mesh)) : mesh);
     }
 
     std::string group(int depth) {

@@ -1,7 +1,9 @@
 // Building blocks for scenes made in code by the unit tests: one-line constructors for the scene
-// description's objects, materials and lights, a cube mesh, and build() with given conventions.
+// description's objects, materials and lights, a cube and a UV sphere mesh (and either turned
+// inside out), and build() with given conventions.
 #pragma once
 
+#include <cmath>
 #include <utility>
 #include <vector>
 
@@ -122,6 +124,45 @@ inline TriangleMesh cube_mesh() {
                       {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
     mesh.indices = {4, 5, 6, 4, 6, 7, 0, 2, 1, 0, 3, 2, 1, 2, 6, 1, 6, 5,
                     0, 4, 7, 0, 7, 3, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4};
+    return mesh;
+}
+
+// A closed UV sphere: poles and rings share their vertices, the seam wraps around by index.
+inline TriangleMesh sphere_mesh(Vec3f centre, float radius, int rings, int segments) {
+    TriangleMesh mesh;
+    mesh.positions.push_back(centre + Vec3f{0, radius, 0});
+    for (int r = 1; r < rings; ++r) {
+        const float theta = 3.14159265f * static_cast<float>(r) / static_cast<float>(rings);
+        for (int s = 0; s < segments; ++s) {
+            const float phi = 6.2831853f * static_cast<float>(s) / static_cast<float>(segments);
+            mesh.positions.push_back(centre + Vec3f{std::sin(theta) * std::cos(phi), std::cos(theta),
+                                                    std::sin(theta) * std::sin(phi)} *
+                                                  radius);
+        }
+    }
+    const uint32_t south = static_cast<uint32_t>(mesh.positions.size());
+    mesh.positions.push_back(centre - Vec3f{0, radius, 0});
+    auto ring_vertex = [&](int r, int s) {
+        return static_cast<uint32_t>(1 + (r - 1) * segments + (s % segments));
+    };
+    auto add = [&](uint32_t a, uint32_t b, uint32_t c) { mesh.indices.insert(mesh.indices.end(), {a, b, c}); };
+    for (int s = 0; s < segments; ++s) {
+        add(0, ring_vertex(1, s + 1), ring_vertex(1, s));
+        for (int r = 1; r + 1 < rings; ++r) {
+            add(ring_vertex(r, s), ring_vertex(r, s + 1), ring_vertex(r + 1, s + 1));
+            add(ring_vertex(r, s), ring_vertex(r + 1, s + 1), ring_vertex(r + 1, s));
+        }
+        add(south, ring_vertex(rings - 1, s), ring_vertex(rings - 1, s + 1));
+    }
+    return mesh;
+}
+
+// The mesh with every triangle wound the other way (its corners' normals kept with them): still
+// closed if it was, every face turned the other way.
+inline TriangleMesh inside_out(TriangleMesh mesh) {
+    for (size_t i = 0; i < mesh.indices.size(); i += 3) std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
+    for (size_t i = 0; i + 2 < mesh.normal_indices.size(); i += 3)
+        std::swap(mesh.normal_indices[i + 1], mesh.normal_indices[i + 2]);
     return mesh;
 }
 

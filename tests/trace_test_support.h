@@ -18,6 +18,7 @@
 #include "geometry/hit.h"
 #include "geometry/triangle_groups.h"
 #include "scene/build_scene.h"
+#include "scene/intersect_packet.h"
 #include "scene/scene.h"
 #include "scene_builders.h"
 
@@ -60,6 +61,14 @@ inline std::vector<BvhPrimitive> random_boxes(std::mt19937& rng, size_t count, f
     return prims;
 }
 
+/// Every packet instruction set this CPU runs, and None (one ray at a time).
+inline std::vector<PacketIsa> packet_isas() {
+    std::vector<PacketIsa> isas;
+    for (PacketIsa isa : {PacketIsa::None, PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2, PacketIsa::Avx512})
+        if (packet_isa_available(isa)) isas.push_back(isa);
+    return isas;
+}
+
 inline TriangleMesh soup(std::mt19937& rng, size_t count, float world, float size) {
     std::uniform_real_distribution<float> u(-1, 1), size_exp(-1.5f, 0);
     TriangleMesh mesh;
@@ -70,36 +79,6 @@ inline TriangleMesh soup(std::mt19937& rng, size_t count, float world, float siz
             mesh.indices.push_back(static_cast<uint32_t>(mesh.positions.size()));
             mesh.positions.push_back(c + Vec3f{u(rng), u(rng), u(rng)} * s);
         }
-    }
-    return mesh;
-}
-
-// A closed UV sphere: poles and rings share their vertices, the seam wraps around by index.
-inline TriangleMesh sphere_mesh(Vec3f centre, float radius, int rings, int segments) {
-    TriangleMesh mesh;
-    mesh.positions.push_back(centre + Vec3f{0, radius, 0});
-    for (int r = 1; r < rings; ++r) {
-        const float theta = 3.14159265f * static_cast<float>(r) / static_cast<float>(rings);
-        for (int s = 0; s < segments; ++s) {
-            const float phi = 6.2831853f * static_cast<float>(s) / static_cast<float>(segments);
-            mesh.positions.push_back(centre + Vec3f{std::sin(theta) * std::cos(phi), std::cos(theta),
-                                                    std::sin(theta) * std::sin(phi)} *
-                                                  radius);
-        }
-    }
-    const uint32_t south = static_cast<uint32_t>(mesh.positions.size());
-    mesh.positions.push_back(centre - Vec3f{0, radius, 0});
-    auto ring_vertex = [&](int r, int s) {
-        return static_cast<uint32_t>(1 + (r - 1) * segments + (s % segments));
-    };
-    auto add = [&](uint32_t a, uint32_t b, uint32_t c) { mesh.indices.insert(mesh.indices.end(), {a, b, c}); };
-    for (int s = 0; s < segments; ++s) {
-        add(0, ring_vertex(1, s + 1), ring_vertex(1, s));
-        for (int r = 1; r + 1 < rings; ++r) {
-            add(ring_vertex(r, s), ring_vertex(r, s + 1), ring_vertex(r + 1, s + 1));
-            add(ring_vertex(r, s), ring_vertex(r + 1, s + 1), ring_vertex(r + 1, s));
-        }
-        add(south, ring_vertex(rings - 1, s), ring_vertex(rings - 1, s + 1));
     }
     return mesh;
 }

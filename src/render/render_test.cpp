@@ -21,6 +21,7 @@
 #include "scene/build_scene.h"
 #include "sceneio/load_scene.h"
 #include "scene_builders.h"
+#include "trace_test_support.h"
 
 namespace raycast {
 namespace {
@@ -168,13 +169,6 @@ Scene transformed_scene() {
 // ---------------------------------------------------------------------------------------------
 // Helpers.
 
-std::vector<PacketIsa> available_isas() {
-    std::vector<PacketIsa> isas;
-    for (PacketIsa isa : {PacketIsa::None, PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2, PacketIsa::Avx512})
-        if (packet_isa_available(isa)) isas.push_back(isa);
-    return isas;
-}
-
 RenderOptions options_with(PacketIsa isa = best_packet_isa()) {
     RenderOptions options;
     options.packet_isa = isa;
@@ -234,7 +228,7 @@ int count_hits(const Image& image, Vec3f background) {
 // The same image whichever way it is made.
 
 TEST(RenderTest, EveryPacketIsaGivesTheSameImageAsSingleRays) {
-    const std::vector<PacketIsa> isas = available_isas();
+    const std::vector<PacketIsa> isas = packet_isas();
     ASSERT_GE(isas.size(), 2u) << "at least None and one packet kernel";
     EXPECT_TRUE(packet_isa_available(PacketIsa::None));
     EXPECT_TRUE(packet_isa_available(PacketIsa::Portable));
@@ -298,7 +292,7 @@ TEST(RenderTest, ShadowPacketsGiveTheSameImageAndCountsAsSingleRays) {
             EXPECT_FALSE(same_bytes(reference, unshadowed)) << names[k];
             EXPECT_GT(stats.shadow_rays, 0u) << names[k];
             EXPECT_LE(stats.shadow_rays, stats.hits * scenes[k].lights.size()) << names[k];
-            for (PacketIsa isa : available_isas()) {
+            for (PacketIsa isa : packet_isas()) {
                 if (isa == PacketIsa::None) continue;
                 RenderOptions packets = single;
                 packets.packet_isa = isa;
@@ -325,7 +319,7 @@ Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1.40129846e-45
     single.mode = RenderMode::Material;
     const Image reference = render_image(scene, single);
     EXPECT_NE(reference.at(0, 0), (Vec3f{0, 0, 0}));  // the sphere, not the background
-    for (PacketIsa isa : available_isas()) {
+    for (PacketIsa isa : packet_isas()) {
         RenderOptions options = single;
         options.packet_isa = isa;
         RenderStats stats;
@@ -685,8 +679,7 @@ TEST(RenderTest, ShadowRaysEndingWithinTheirOffsetOfAMeshDoNotSkipItsBackFaces) 
     desc.materials = {material({0.8f, 0.8f, 0.8f})};
     desc.lights = {point_light({0, -1.03f, 0}, {1, 1, 1})};
     desc.has_lights_block = true;
-    TriangleMesh inverted = smooth_sphere_mesh(40, 60);  // closed, of radius 1, every face turned inwards
-    for (size_t i = 0; i < inverted.indices.size(); i += 3) std::swap(inverted.indices[i + 1], inverted.indices[i + 2]);
+    TriangleMesh inverted = inside_out(smooth_sphere_mesh(40, 60));  // closed, of radius 1, faces turned inwards
     inverted.normals.clear();
     inverted.normal_indices.clear();
     desc.meshes.push_back({"inverted.obj", inverted});
@@ -918,7 +911,7 @@ TEST(RenderTest, PointUnderASphereLitFromAboveIsBlackOnlyWithShadows) {
     EXPECT_GT(darker, 5);
     EXPECT_GT(same, 200);
     // Every packet width agrees with shadows too.
-    for (PacketIsa isa : available_isas()) {
+    for (PacketIsa isa : packet_isas()) {
         RenderOptions o = options_with(isa);
         o.shadows = true;
         EXPECT_TRUE(same_floats(render_image(scene, o), b)) << packet_isa_name(isa);
@@ -1182,7 +1175,7 @@ TEST(RenderTest, NoNanOrInfinityWithDegenerateTriangles) {
                             RenderMode::Cost})
         for (int spp : {1, 4})
             for (bool shadows : {false, true})
-                for (PacketIsa isa : available_isas()) {
+                for (PacketIsa isa : packet_isas()) {
                     RenderOptions options = options_with(isa);
                     options.mode = mode;
                     options.samples_per_pixel = spp;

@@ -23,12 +23,6 @@ namespace {
 
 using namespace test;  // tests/scene_builders.h and tests/trace_test_support.h
 
-// The mesh with every triangle wound the other way: still closed, its faces all turned inwards.
-TriangleMesh inside_out(TriangleMesh mesh) {
-    for (size_t i = 0; i < mesh.indices.size(); i += 3) std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
-    return mesh;
-}
-
 // A closed UV sphere with every vertex moved along its radius by up to `bumpiness` of it: closed,
 // outward, with faces turned every way around each vertex.
 TriangleMesh bumpy_sphere(std::mt19937& rng, Vec3f centre, float radius, int rings, int segments, float bumpiness) {
@@ -180,8 +174,7 @@ TEST(BackFaceSkipping, RaysBetweenPointsOutsideAClosedMeshGetTheSameAnswersOnEve
     for (const MeshShape& mesh : scene.meshes) ASSERT_FALSE(mesh.cones.empty());
     const std::vector<uint8_t> all(scene.instances.size(), 1);
     int blocked_count = 0, total = 0;
-    for (PacketIsa isa : {PacketIsa::None, PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2, PacketIsa::Avx512}) {
-        if (!packet_isa_available(isa)) continue;
+    for (PacketIsa isa : packet_isas()) {
         const PacketTracer tracer(scene, isa);
         for (int packet = 0; packet < 400; ++packet) {
             const int count = 1 + packet % tracer.lanes();
@@ -248,8 +241,7 @@ TEST(BackFaceSkipping, ARayLeavingAClosedMeshFromInsideIsBlockedOnlyWithoutSkipp
     std::uniform_real_distribution<float> u(-1, 1);
     const Scene scene = scene_of_mesh(sphere_mesh({0, 0, 0}, 2, 30, 40));
     const std::vector<uint8_t> all(1, 1);
-    for (PacketIsa isa : {PacketIsa::None, PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2, PacketIsa::Avx512}) {
-        if (!packet_isa_available(isa)) continue;
+    for (PacketIsa isa : packet_isas()) {
         const PacketTracer tracer(scene, isa);
         Ray rays[kMaxPacketLanes];
         float t_max[kMaxPacketLanes];

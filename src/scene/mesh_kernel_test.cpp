@@ -43,13 +43,6 @@ std::vector<PacketIsa> ray_kernel_isas() {
                                          << expected.leaf << " lane " << expected.lane;
 }
 
-std::vector<PacketIsa> packet_isas() {
-    std::vector<PacketIsa> isas;
-    for (PacketIsa isa : {PacketIsa::None, PacketIsa::Portable, PacketIsa::Sse2, PacketIsa::Avx2, PacketIsa::Avx512})
-        if (packet_isa_available(isa)) isas.push_back(isa);
-    return isas;
-}
-
 // Separate triangles (no shared vertices) of mixed sizes, some of them degenerate.
 TriangleMesh soup_mesh(std::mt19937& rng, size_t count, float world) {
     TriangleMesh mesh = soup(rng, count, world, 2);
