@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "scene_builders.h"
+#include "sceneio/write_obj.h"
 #include "test_support.h"
 
 namespace raycast::test {
@@ -324,6 +326,49 @@ TEST(CliTest, QuietPrintsNothingOnSuccess) {
         EXPECT_EQ(run.output, "");
         EXPECT_EQ(read_file(dir + "/quiet_mit.ppm"), read_file(dir + "/loud_mit.ppm"));
     }
+}
+
+// --test-every-face turns back-face skipping off (scene/back_faces.h). The scene where skipping
+// shows: a close-up, at floor level, of where a closed ball mesh rests on a closed floor mesh
+// (RenderTest.SkippingBackFacesCanOnlyLetLightInWhereObjectsTouch). By default some pixels there
+// are lit that testing every face leaves in the ball's shadow, and none the other way.
+TEST(CliTest, TestEveryFaceTurnsBackFaceSkippingOff) {
+    const std::string dir = temp_dir("every_face");
+    TriangleMesh floor = test::cube_mesh();  // [−5, 5] × [−1, 0] × [−5, 5]
+    for (Vec3f& p : floor.positions) p = {5 * p.x, 0.5f * p.y - 0.5f, 5 * p.z};
+    write_file(dir + "/floor.obj", obj_text(floor));
+    write_file(dir + "/ball.obj", obj_text(test::sphere_mesh({0, 1, 0}, 1, 64, 64)));  // resting on the floor
+    write_file(dir + "/contact.txt", R"(PerspectiveCamera {
+    center -3 2e-6 1e-4
+    direction 1 -6.6666667e-7 0
+    up 0 1 0
+    angle 0.01
+    width 48
+    height 48
+}
+Lights { numLights 1 DirectionalLight { direction 0 -1 0 color 1 1 1 } }
+Background { color 0 0 1 }
+Materials { numMaterials 1 Material { diffuseColor 0.8 0.8 0.8 } }
+Group {
+    numObjects 2
+    MaterialIndex 0
+    TriangleMesh { obj_file floor.obj }
+    TriangleMesh { obj_file ball.obj }
+}
+)");
+    ASSERT_EQ(run_raycast("contact.txt skipping.ppm --shadows -q", dir).exit_code, 0);
+    ASSERT_EQ(run_raycast("contact.txt every_face.ppm --shadows -q --test-every-face", dir).exit_code, 0);
+    const Ppm skipping = parse_ppm(read_file(dir + "/skipping.ppm"));
+    const Ppm every_face = parse_ppm(read_file(dir + "/every_face.ppm"));
+    ASSERT_TRUE(skipping.ok && every_face.ok);
+    ASSERT_EQ(skipping.rgb.size(), every_face.rgb.size());
+    int lighter = 0, darker = 0;
+    for (size_t i = 0; i < skipping.rgb.size(); ++i) {
+        lighter += skipping.rgb[i] > every_face.rgb[i];
+        darker += skipping.rgb[i] < every_face.rgb[i];
+    }
+    EXPECT_GT(lighter, 0);
+    EXPECT_EQ(darker, 0);
 }
 
 TEST(CliTest, OneThreadAndTwoThreadsWriteTheSameImage) {
