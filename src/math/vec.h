@@ -43,6 +43,13 @@ inline Vec3f normalize(Vec3f a) {
     const float len = length(a);
     return len > 0 ? a / len : a;
 }
+/// The largest of |a.x|, |a.y|, |a.z|, as std::fmax finds it (a NaN component is passed over
+/// unless all are NaN). Written as comparisons because GCC calls fmaxf as a library function, and
+/// every shaded hit needs this for its ray offset (render/shade.h).
+inline float max_abs(Vec3f a) {
+    const auto larger = [](float x, float y) { return x > y ? x : (y == y ? y : x); };  // x, y >= 0 or NaN
+    return larger(std::fabs(a.x), larger(std::fabs(a.y), std::fabs(a.z)));
+}
 inline bool is_zero(Vec3f a) { return a.x == 0 && a.y == 0 && a.z == 0; }
 /// Whether |a|² neither underflows nor overflows float: products with `a` are then safe.
 inline bool has_ordinary_length(Vec3f a) {

@@ -36,8 +36,6 @@ float ulp(float x) {
     return next - x;
 }
 
-using shade_detail::max_abs;
-
 }  // namespace
 
 float ray_offset_distance(Vec3f position, float travel_scale) {

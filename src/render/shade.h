@@ -23,12 +23,6 @@ namespace shade_detail {
 // fmaxf as a library function.
 inline float positive_part(float x) { return x > 0 ? x : 0.0f; }
 
-// std::fmax(a, b) for a, b >= 0 or NaN (NaN only when both are), again without the call.
-inline float max_of(float a, float b) { return a > b ? a : (b == b ? b : a); }
-
-// The largest of |v.x|, |v.y|, |v.z|, as std::fmax finds it.
-inline float max_abs(Vec3f v) { return max_of(std::fabs(v.x), max_of(std::fabs(v.y), std::fabs(v.z))); }
-
 // std::pow(base, exponent) for base >= 0 (or NaN), skipping the call where the answer is known:
 // half the lit points face away from the highlight, and powf is the dearest step of shading.
 inline float specular_power(float base, float exponent) {
@@ -110,7 +104,6 @@ bool refract_direction(Vec3f d, Vec3f n, float from_index, float to_index, Vec3f
 /// How large the numbers were that a hit point o + t·d came from: max|o| + |t|·max|d|. A point
 /// near the origin seen from far away is only as accurate as the long ray that found it.
 inline float ray_travel_scale(Vec3f origin, Vec3f direction, float t) {
-    using shade_detail::max_abs;
     const float scale = max_abs(origin) + std::fabs(t) * max_abs(direction);
     return std::isfinite(scale) ? scale : 0.0f;
 }

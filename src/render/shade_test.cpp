@@ -387,8 +387,8 @@ TEST(OffsetRayOriginTest, TheStepIsTheLibraryFormulaForEveryKindOfFloat) {
     for (float a : values)
         for (float b : values) {
             const Vec3f p{a, b, 0.5f}, q{0.25f, a, b};
-            EXPECT_TRUE(same(shade_detail::max_abs(p), library_max_abs(p))) << a << ", " << b;
-            EXPECT_TRUE(same(shade_detail::max_abs(q), library_max_abs(q))) << a << ", " << b;
+            EXPECT_TRUE(same(max_abs(p), library_max_abs(p))) << a << ", " << b;
+            EXPECT_TRUE(same(max_abs(q), library_max_abs(q))) << a << ", " << b;
             const float expected_scale = library_max_abs(p) + std::fabs(b) * library_max_abs(q);
             EXPECT_TRUE(same(ray_travel_scale(p, q, b), std::isfinite(expected_scale) ? expected_scale : 0.0f))
                 << a << ", " << b;
@@ -396,7 +396,7 @@ TEST(OffsetRayOriginTest, TheStepIsTheLibraryFormulaForEveryKindOfFloat) {
             EXPECT_TRUE(same(ray_offset_distance(p, b), expected)) << a << ", " << b;
         }
     // Both NaN: NaN, as std::fmax gives.
-    EXPECT_TRUE(std::isnan(shade_detail::max_abs({nan, nan, nan})));
+    EXPECT_TRUE(std::isnan(max_abs({nan, nan, nan})));
 }
 
 // Unit vector perpendicular to n.

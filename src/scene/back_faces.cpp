@@ -146,8 +146,6 @@ bool outside_box(Vec3f p, const Bounds3f& box, float margin) {
            p.y > box.upper.y + margin || p.z < box.lower.z - margin || p.z > box.upper.z + margin;
 }
 
-float max_abs(Vec3f v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
-
 }  // namespace
 
 bool mesh_is_closed(const TriangleMesh& mesh, int threads) {

@@ -149,7 +149,7 @@ private:
                            "the camera gives no image size: add width and height, or use --size WxH (-size W H)")});
         // Rays start at the camera: beyond the objects' limit, the tests' products overflow as they
         // would for an object there (found by fuzz_render_pipeline: a camera at 1e30 gave NaN pixels).
-        const float reach = std::fmax(std::fabs(camera.center.x), std::fmax(std::fabs(camera.center.y), std::fabs(camera.center.z)));
+        const float reach = max_abs(camera.center);
         if (!(reach <= kMaxCoordinate))
             fail({error_at(camera.location,
                            string_printf("the camera is at coordinates of %g, beyond raycast's limit of %g (float "
