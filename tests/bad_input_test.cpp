@@ -474,7 +474,7 @@ TEST(BadInputTest, SingularTransformsAreRejected) {
 TEST(BadInputTest, ErrorsFoundWhileBuildingTheSceneShowTheLineAndCaret) {
     // Found after parsing, by build_scene, and shown as the parser shows its own errors: a product
     // of transforms that cannot be inverted, and the extent limit (1e18, base/limits.h) for a
-    // triangle with corners at 1e20.
+    // triangle with corners at 1e20, the camera and a point light.
     const std::pair<const char*, const char*> cases[] = {
         {"transform_singular_product.txt",
          "tests/bad_inputs/transform_singular_product.txt:26:9: error: this transform cannot be inverted (it "
@@ -491,6 +491,12 @@ TEST(BadInputTest, ErrorsFoundWhileBuildingTheSceneShowTheLineAndCaret) {
          "tests/bad_inputs/huge_triangle.txt:17:5: error: this object reaches coordinates of 1e+20, beyond raycast's "
          "limit of 1e+18 (float arithmetic would overflow): scale the scene down\n"
          "      Triangle {\n"
+         "      ^\n"},
+        // And a point light: its distance to a hit, squared, overflowed, and it lit nothing.
+        {"point_light_huge.txt",
+         "tests/bad_inputs/point_light_huge.txt:11:5: error: this point light is at coordinates of 2e+19, beyond "
+         "raycast's limit of 1e+18 (float arithmetic would overflow): scale the scene down\n"
+         "      PointLight {\n"
          "      ^\n"},
     };
     for (const auto& [name, output] : cases) {

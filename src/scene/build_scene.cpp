@@ -162,6 +162,14 @@ private:
         else if (options_.conventions.ambient_without_lights && !desc_.has_lights_block)
             scene_.ambient = {1, 1, 1};
         for (const LightDesc& l : desc_.lights) {
+            // A point light's distance to a hit is squared on the way to its direction: from past
+            // the limit it overflows, and the light silently lit nothing.
+            const float light_reach = max_abs(l.position);
+            if (l.kind == LightDesc::Kind::Point && !(light_reach <= kMaxCoordinate))
+                errors_.push_back(error_at(l.location, string_printf("this point light is at coordinates of %g, beyond "
+                                                                     "raycast's limit of %g (float arithmetic would "
+                                                                     "overflow): scale the scene down",
+                                                                     double(light_reach), double(kMaxCoordinate))));
             Light light;
             light.kind = l.kind == LightDesc::Kind::Directional ? Light::Kind::Directional : Light::Kind::Point;
             light.direction = normalize_any_length(l.direction);
