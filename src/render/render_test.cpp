@@ -35,29 +35,10 @@ CameraDesc camera(Vec3f center, Vec3f direction, float angle, int w, int h) {
     return perspective(center, direction, {0, 1, 0}, angle, w, h);
 }
 
-// A unit sphere of triangles (no degenerate pole triangles) with smooth vertex normals, so that
-// the barycentric u, v of every hit show in the shading.
+// A unit sphere of triangles (sphere_mesh) with smooth vertex normals, so that the barycentric
+// u, v of every hit show in the shading.
 TriangleMesh smooth_sphere_mesh(int stacks, int slices) {
-    TriangleMesh mesh;
-    const float pi = 3.14159265f;
-    mesh.positions.push_back({0, 1, 0});
-    for (int i = 1; i < stacks; ++i) {
-        const float theta = pi * static_cast<float>(i) / static_cast<float>(stacks);
-        for (int j = 0; j < slices; ++j) {
-            const float phi = 2 * pi * static_cast<float>(j) / static_cast<float>(slices);
-            mesh.positions.push_back({std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)});
-        }
-    }
-    mesh.positions.push_back({0, -1, 0});
-    const auto ring = [&](int i, int j) { return static_cast<uint32_t>(1 + (i - 1) * slices + (j % slices)); };
-    const uint32_t south = static_cast<uint32_t>(mesh.positions.size() - 1);
-    for (int j = 0; j < slices; ++j) {
-        mesh.indices.insert(mesh.indices.end(), {0, ring(1, j + 1), ring(1, j)});
-        for (int i = 1; i + 1 < stacks; ++i)
-            mesh.indices.insert(mesh.indices.end(), {ring(i, j), ring(i, j + 1), ring(i + 1, j + 1), ring(i, j),
-                                                     ring(i + 1, j + 1), ring(i + 1, j)});
-        mesh.indices.insert(mesh.indices.end(), {ring(stacks - 1, j), ring(stacks - 1, j + 1), south});
-    }
+    TriangleMesh mesh = sphere_mesh({0, 0, 0}, 1, stacks, slices);
     mesh.normals = mesh.positions;
     mesh.normal_indices = mesh.indices;
     return mesh;
