@@ -300,6 +300,20 @@ TEST(BadInputTest, APlaneNormalMustNotBeZero) {
     expect_input_errors({{"plane_zero_normal.txt", ":25:9: error: the plane's 'normal' must not be the zero vector"}});
 }
 
+// A plane's points lie as far from the origin as the plane, and from past the coordinate limit
+// their distance to a point light overflowed when squared (a floor at 1e19 came out black). A
+// scaled plane n·p = d lies |d|/|n| away: Scale 1 1e10 1 takes offset -1e9 to 1e19.
+TEST(BadInputTest, PlanesBeyondTheCoordinateLimitAreRejected) {
+    expect_input_errors({
+        {"plane_far.txt",
+         ":24:5: error: this plane lies 2e+19 from the origin, beyond raycast's limit of 1e+18 (float arithmetic "
+         "would overflow): scale the scene down"},
+        {"plane_scaled_far.txt",
+         ":26:9: error: this plane lies 1e+19 from the origin, beyond raycast's limit of 1e+18 (float arithmetic "
+         "would overflow): scale the scene down"},
+    });
+}
+
 TEST(BadInputTest, TheCameraNeedsADirectionAndAnUpThatIsNotParallelToIt) {
     expect_input_errors({
         {"camera_up_parallel.txt",

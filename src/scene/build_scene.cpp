@@ -256,6 +256,7 @@ private:
                                     a.m[0][2] * n.x + a.m[1][2] * n.y + a.m[2][2] * n.z};
                     plane.offset = plane.offset - dot(n, Vec3f{a.m[0][3], a.m[1][3], a.m[2][3]});
                 }
+                check_plane_distance(object, plane);
                 instance.kind = ShapeKind::Plane;
                 instance.shape = static_cast<uint32_t>(scene_.planes.size());
                 scene_.planes.push_back(plane);
@@ -313,6 +314,22 @@ private:
                                        string_printf("this object reaches coordinates of %g, beyond raycast's limit of "
                                                      "%g (float arithmetic would overflow): scale the scene down",
                                                      double(largest), double(kMaxCoordinate))));
+    }
+
+    // A plane has no extent, but its points are as far from the origin as it is, and beyond
+    // kMaxCoordinate their distance to a point light, squared, overflows: a floor at 1e19 below
+    // the camera was drawn black. n·p = d with n not of unit length (a scaled plane) lies |d|/|n|
+    // from the origin, found in double so that neither overflows.
+    void check_plane_distance(const ObjectDesc& object, const Plane& plane) {
+        const double nx = plane.normal.x, ny = plane.normal.y, nz = plane.normal.z;
+        const double normal_length = std::sqrt(nx * nx + ny * ny + nz * nz);
+        if (!(normal_length > 0)) return;  // never hit (intersect_plane divides by n·d)
+        const double distance = std::fabs(double{plane.offset}) / normal_length;
+        if (!(distance <= double{kMaxCoordinate}))
+            errors_.push_back(error_at(object.location,
+                                       string_printf("this plane lies %g from the origin, beyond raycast's limit of "
+                                                     "%g (float arithmetic would overflow): scale the scene down",
+                                                     distance, double(kMaxCoordinate))));
     }
 
     uint32_t mesh_shape(int mesh_index) {
