@@ -256,7 +256,9 @@ void for_each_block(int x0, int y0, int x1, int y1, int lanes, BlockFn&& block) 
 // Ray i of pixel `pixel`'s hit at `position` with unit normal `normal` (facing the viewer), as
 // raycast's --mode ao draws them (render/integrators.cpp): a cosine-distributed direction from
 // sample_cosine_hemisphere with the numbers of raycast's Sampler, starting at the hit moved off
-// the surface by offset_ray_origin. `travel_scale` is ray_travel_scale of the camera ray.
+// the surface by offset_ray_origin. `travel_scale` is ray_travel_scale of the camera ray: what
+// raycast's hit_travel_scale gives for the bench's meshes, whose corners (within about 1.1 of the
+// origin) are smaller than the camera ray's travel.
 Ray ao_ray(Vec3f position, Vec3f normal, float travel_scale, uint32_t pixel, int i) {
     Sampler sampler(pixel, i);
     const Vec3f direction = sample_cosine_hemisphere(normal, sampler.next_2d());

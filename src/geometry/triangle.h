@@ -68,6 +68,8 @@ inline bool intersect_triangle(const WatertightRay& ray, Vec3f p0, Vec3f p1, Vec
 inline bool is_degenerate_triangle(Vec3f p0, Vec3f p1, Vec3f p2) { return is_zero(cross(p1 - p0, p2 - p0)); }
 
 /// The geometric normal normalize((p1 − p0) × (p2 − p0)): counter-clockwise faces face you.
-inline Vec3f triangle_normal(Vec3f p0, Vec3f p1, Vec3f p2) { return normalize(cross(p1 - p0, p2 - p0)); }
+/// normalize_any_length: a triangle a few billion across (cross product 1e19, squared past float)
+/// or a millionth of a millionth (squared below it) still has a unit normal, not zero.
+inline Vec3f triangle_normal(Vec3f p0, Vec3f p1, Vec3f p2) { return normalize_any_length(cross(p1 - p0, p2 - p0)); }
 
 }  // namespace raycast

@@ -51,7 +51,7 @@ inline Vec3f transform_vector(const Mat4& a, Vec3f v) {
 /// normalised. This keeps normals perpendicular to surfaces under non-uniform scales.
 inline Vec3f transform_normal(const Mat4& object_from_world, Vec3f n) {
     const Mat4& a = object_from_world;
-    return normalize(Vec3f{a.m[0][0] * n.x + a.m[1][0] * n.y + a.m[2][0] * n.z,
+    return normalize_any_length(Vec3f{a.m[0][0] * n.x + a.m[1][0] * n.y + a.m[2][0] * n.z,
                            a.m[0][1] * n.x + a.m[1][1] * n.y + a.m[2][1] * n.z,
                            a.m[0][2] * n.x + a.m[1][2] * n.y + a.m[2][2] * n.z});
 }

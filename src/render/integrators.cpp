@@ -60,7 +60,7 @@ struct ShadingFrame {
     Vec3f normal;     // the shading normal: flipped towards the viewer on back faces with shade_back
     Vec3f to_viewer;  // unit, −direction
     bool back_face;   // the ray met the side the surface normal points away from
-    float travel_scale;  // of the ray that found the point: for offsetting new rays
+    float travel_scale;  // hit_travel_scale of the point: for offsetting new rays
 };
 
 // `known` is the hit's surface point when the render loop already found it (trace_camera_shadows).
@@ -76,7 +76,7 @@ ShadingFrame shading_frame(const Scene& scene, const Ray& ray, const Hit& hit, c
     frame.normal = known ? known->normal : frame.surface.normal;
     frame.to_viewer = normalize(-ray.direction);
     frame.back_face = dot(frame.normal, frame.to_viewer) < 0;
-    frame.travel_scale = ray_travel_scale(ray.origin, ray.direction, hit.t);
+    frame.travel_scale = hit_travel_scale(ray.origin, ray.direction, hit.t, frame.surface.geometry_scale);
     if (frame.back_face && scene.conventions.shade_back_faces) frame.normal = -frame.normal;
     return frame;
 }
@@ -330,7 +330,8 @@ Vec3f ambient_occlusion_radiance(const Integrator& integrator, const Ray& ray, c
     const SurfacePoint surface = surface_at(scene, ray, hit);
     record_surface(context, hit, surface);
     const Vec3f normal = dot(surface.normal, ray.direction) > 0 ? -surface.normal : surface.normal;
-    const float offset = ray_offset_distance(surface.position, ray_travel_scale(ray.origin, ray.direction, hit.t));
+    const float offset = ray_offset_distance(surface.position,
+                                             hit_travel_scale(ray.origin, ray.direction, hit.t, surface.geometry_scale));
     const int samples = std::max(1, integrator.options.ao_samples);
     // The rays leave one point, so they share the top of the BVH and most of the boxes near the
     // point: with the render loop's tracer they go in packets, whose box tests serve them all.
@@ -526,7 +527,8 @@ Vec3f light_transmittance(const Integrator& integrator, Vec3f origin, Vec3f to_l
         if (transmittance == Vec3f{0, 0, 0} || !take_ray(context)) return finish({0, 0, 0}, &hit, segment);
         ++context.counts->shadow;
         segment.origin = offset_ray_origin(surface.position, surface.geometric_normal, to_light,
-                                           ray_travel_scale(segment.origin, segment.direction, hit.t));
+                                           hit_travel_scale(segment.origin, segment.direction, hit.t,
+                                                            surface.geometry_scale));
         if (point_light) remaining = length(light_position - segment.origin);
     }
 }
@@ -892,7 +894,8 @@ void prepare_shadow_part(const Scene& scene, bool shading, const Ray* rays, cons
         part.offset[j] = black_back_faces && lanes.back_face[j]
                              ? -1.0f
                              : ray_offset_distance(lanes.surface.position.at(j),
-                                                   ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t));
+                                                   hit_travel_scale(rays[k].origin, rays[k].direction, hits[k].t,
+                                                                    lanes.surface.geometry_scale[j]));
     }
     if (part.any_local) begin_local_shading(scene, lanes);
 }

@@ -108,7 +108,16 @@ inline float ray_travel_scale(Vec3f origin, Vec3f direction, float t) {
     return std::isfinite(scale) ? scale : 0.0f;
 }
 
-/// How far offset_ray_origin moves a point found by a ray of `travel_scale` (ray_travel_scale):
+/// The scale of every number a hit point came from: ray_travel_scale of the ray that found it, or
+/// that of the shape it lies on (SurfacePoint::geometry_scale) where larger. A point near the
+/// origin on a floor of two triangles 4000 across was found 3e-5 off the floor, more than an
+/// offset for its own coordinates, and its shadow rays met the floor again.
+inline float hit_travel_scale(Vec3f origin, Vec3f direction, float t, float geometry_scale) {
+    const float travel = ray_travel_scale(origin, direction, t);
+    return geometry_scale > travel ? geometry_scale : travel;
+}
+
+/// How far offset_ray_origin moves a point found by a ray of `travel_scale` (hit_travel_scale):
 /// far enough that a ray starting there cannot hit the surface it left.
 float ray_offset_distance(Vec3f position, float travel_scale);
 
@@ -121,7 +130,7 @@ inline Vec3f offset_ray_origin_by(Vec3f position, Vec3f normal, Vec3f side, floa
 
 /// A point nudged off a surface along its normal, towards `side`, far enough that a ray starting
 /// there cannot hit the surface it left (used for shadow, reflected and transmitted rays).
-/// `travel_scale` is ray_travel_scale of the ray that found the point.
+/// `travel_scale` is hit_travel_scale of the point.
 inline Vec3f offset_ray_origin(Vec3f position, Vec3f normal, Vec3f side, float travel_scale) {
     return offset_ray_origin_by(position, normal, side, ray_offset_distance(position, travel_scale));
 }

@@ -339,13 +339,10 @@ TEST(OriginOnCameraSide, TheShadowRayMustLeaveThePlaneOnTheSideTheCameraRayCameF
     EXPECT_FALSE(origin_on_camera_side(n, {0, 1, 0}, {0, 0, -1}));
     EXPECT_FALSE(origin_on_camera_side(n, {0, 1, 1}, {0, 1, 0}));    // a camera ray along the plane
     EXPECT_FALSE(origin_on_camera_side(n, {0, 1, 1}, {0, 0, NAN}));
-    // The normal of a triangle whose corners are 1e-12 apart: its cross product, 1e-24, squared
-    // underflows, normalize keeps it as it is, and the ray's start moves 1e-24 of its offset.
-    const Vec3f tiny = triangle_normal({0, 0, 0}, {1e-12f, 0, 0}, {0, 1e-12f, 0});
-    EXPECT_GT(tiny.z, 0);
-    EXPECT_LT(tiny.z, 1e-20f);
-    EXPECT_FALSE(origin_on_camera_side(tiny, {0, 1, 1}, {0, 0, 1}));
-    EXPECT_TRUE(origin_on_camera_side(triangle_normal({0, 0, 0}, {1e-6f, 0, 0}, {0, 1e-6f, 0}), {0, 1, 1}, {0, 0, 1}));
+    // A normal not of unit length: the ray would start that length times its offset off the hit.
+    EXPECT_FALSE(origin_on_camera_side({0, 0, 1e-24f}, {0, 1, 1}, {0, 0, 1}));
+    EXPECT_FALSE(origin_on_camera_side({0, 0, 0.7f}, {0, 1, 1}, {0, 0, 1}));
+    EXPECT_TRUE(origin_on_camera_side({0, 0, 0.75f}, {0, 1, 1}, {0, 0, 1}));
 }
 
 }  // namespace

@@ -595,6 +595,7 @@ TEST(BuildSceneTest, SurfacePointsOfManyHitsAreEachSurfaceAtBitForBit) {
             if (std::memcmp(&got.position, &expected.position, sizeof got.position) != 0 ||
                 std::memcmp(&got.normal, &expected.normal, sizeof got.normal) != 0 ||
                 std::memcmp(&got.geometric_normal, &expected.geometric_normal, sizeof got.geometric_normal) != 0 ||
+                std::memcmp(&got.geometry_scale, &expected.geometry_scale, sizeof got.geometry_scale) != 0 ||
                 got.material != expected.material)
                 ++mismatches;
             ++kinds[expected.material];
@@ -602,6 +603,51 @@ TEST(BuildSceneTest, SurfacePointsOfManyHitsAreEachSurfaceAtBitForBit) {
     }
     EXPECT_EQ(mismatches, 0);
     for (int material = 0; material < 6; ++material) EXPECT_GT(kinds[static_cast<size_t>(material)], 10) << material;
+}
+
+// A flat mesh of triangles 8e9 across (cross products 1e19, past float when squared) and one 1e-12
+// across (squared below it): surface_points, in SIMD, and surface_at give each hit the same bits,
+// a unit normal (they once gave zero, and the triangles were drawn black), and the corners'
+// largest coordinate as the geometry's scale, whatever the position of the hit.
+TEST(BuildSceneTest, SurfacePointsOfHugeAndTinyTrianglesHaveUnitNormals) {
+    for (const float size : {4e9f, 1e-12f}) {
+        SCOPED_TRACE(size);
+        TriangleMesh mesh = grid_mesh(4);  // over [-1, 1]², z = 0
+        for (Vec3f& p : mesh.positions) p = Vec3f{p.x, p.y, 0.2f * p.x} * size;
+        SceneDesc desc = scene_with(group({mesh_object(0, 0)}), 1);
+        desc.meshes.push_back({"mesh.obj", mesh});
+        const Scene scene = build_scene(std::move(desc), {});
+        std::vector<Ray> rays;
+        std::vector<Hit> hits;
+        for (int i = 0; i < 2 * kMaxPacketLanes; ++i) {
+            const Ray ray{Vec3f{0.1f, 0.05f, 10} * size, normalize(Vec3f{static_cast<float>(i % 5) * 0.02f - 0.04f,
+                                                                          static_cast<float>(i / 5) * 0.01f - 0.03f, -1})};
+            Hit hit;
+            intersect(scene, ray, 0, hit);
+            ASSERT_TRUE(hit.is_hit()) << i;
+            rays.push_back(ray);
+            hits.push_back(hit);
+        }
+        int lanes[kMaxPacketLanes];
+        for (int j = 0; j < kMaxPacketLanes; ++j) lanes[j] = j;
+        for (size_t first = 0; first < hits.size(); first += kMaxPacketLanes) {
+            SurfaceLanes out;
+            surface_points(scene, &rays[first], &hits[first], lanes, kMaxPacketLanes, out);
+            for (int j = 0; j < kMaxPacketLanes; ++j) {
+                const SurfacePoint expected = surface_at(scene, rays[first + j], hits[first + j]);
+                const SurfacePoint got = out.at(j);
+                EXPECT_EQ(std::memcmp(&got.normal, &expected.normal, sizeof got.normal), 0) << j;
+                EXPECT_EQ(std::memcmp(&got.geometric_normal, &expected.geometric_normal, sizeof got.normal), 0) << j;
+                EXPECT_EQ(got.geometry_scale, expected.geometry_scale) << j;
+                // The plane z = 0.2 x: normal (-0.2, 0, 1) / |(-0.2, 0, 1)|.
+                EXPECT_NEAR(got.normal.x, -0.2f / std::sqrt(1.04f), 1e-6f) << j;
+                EXPECT_NEAR(got.normal.z, 1 / std::sqrt(1.04f), 1e-6f) << j;
+                const GroupTriangle corners = group_triangle(&scene.meshes[0].groups[hits[first + j].leaf], hits[first + j].lane);
+                EXPECT_EQ(got.geometry_scale,
+                          std::max({max_abs(corners.p0), max_abs(corners.p1), max_abs(corners.p2)})) << j;
+            }
+        }
+    }
 }
 
 }  // namespace

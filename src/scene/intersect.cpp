@@ -148,6 +148,23 @@ bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max, cons
     return Query<true>{scene, t_min, t_max, unused, nullptr, skip_back_faces}.run(ray);
 }
 
+namespace {
+
+// normalize_any_length lane by lane: what normalize_lanes gives where every length is ordinary.
+// Out of line and cold: kept out of surface_points, whose loops it slowed by its presence alone.
+[[gnu::cold]] [[gnu::noinline]] void normalize_any_length_lanes(LaneVectors& v, int count) {
+    for (int j = 0; j < count; ++j) v.set(j, normalize_any_length(v.at(j)));
+}
+
+// The largest coordinate of a triangle's corners (SurfacePoint::geometry_scale, before any transform).
+float corner_scale(Vec3f p0, Vec3f p1, Vec3f p2) {
+    const float a = max_abs(p0), b = max_abs(p1), c = max_abs(p2);
+    const float ab = a > b ? a : b;
+    return ab > c ? ab : c;
+}
+
+}  // namespace
+
 SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     const Instance& inst = scene.instances[hit.object];
     SurfacePoint surface;
@@ -158,15 +175,16 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     switch (inst.kind) {
         case ShapeKind::Sphere: {
             const Sphere& sphere = scene.spheres[inst.shape];
-            normal = normalize(object_ray.at(hit.t) - sphere.center);
+            normal = normalize_any_length(object_ray.at(hit.t) - sphere.center);
             break;
         }
         case ShapeKind::Plane:
-            normal = normalize(scene.planes[inst.shape].normal);
+            normal = normalize_any_length(scene.planes[inst.shape].normal);
             break;
         case ShapeKind::Triangle: {
             const TriangleShape& tri = scene.triangles[inst.shape];
             normal = triangle_normal(tri.p0, tri.p1, tri.p2);
+            surface.geometry_scale = corner_scale(tri.p0, tri.p1, tri.p2);
             break;
         }
         case ShapeKind::RevSurface:
@@ -182,12 +200,13 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
             RAYCAST_DCHECK(corners.id == hit.prim);
             normal = triangle_normal(corners.p0, corners.p1, corners.p2);
             surface.geometric_normal = normal;
+            surface.geometry_scale = corner_scale(corners.p0, corners.p1, corners.p2);
             if (mesh.has_normals()) {
                 const uint32_t* n = &mesh.normal_indices[3 * size_t{hit.prim}];
                 if (n[0] != kNoNormal && n[1] != kNoNormal && n[2] != kNoNormal) {
                     const float w0 = 1 - hit.u - hit.v;
-                    const Vec3f smooth = normalize(mesh.normals[n[0]] * w0 + mesh.normals[n[1]] * hit.u +
-                                                   mesh.normals[n[2]] * hit.v);
+                    const Vec3f smooth = normalize_any_length(mesh.normals[n[0]] * w0 + mesh.normals[n[1]] * hit.u +
+                                                              mesh.normals[n[2]] * hit.v);
                     if (dot(smooth, smooth) > 0) normal = smooth;
                 }
             }
@@ -199,6 +218,12 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
         const Mat4& object_from_world = scene.object_from_world[inst.transform];
         normal = transform_normal(object_from_world, normal);
         surface.geometric_normal = transform_normal(object_from_world, surface.geometric_normal);
+        // The test ran in object space, where an error in t is the same but the direction is
+        // longer or shorter: in world units the corners' scale goes with the world direction.
+        if (surface.geometry_scale > 0) {
+            const float world_scale = surface.geometry_scale * (max_abs(ray.direction) / max_abs(object_ray.direction));
+            surface.geometry_scale = std::isfinite(world_scale) ? world_scale : 0.0f;
+        }
     }
     surface.normal = normal;
     return surface;
@@ -207,7 +232,8 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
 void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const int* lanes, int count,
                     SurfaceLanes& out) {
     RAYCAST_DCHECK(count <= kMaxPacketLanes);
-    // The corners of the lanes' mesh triangles; other lanes keep zeros and are found below.
+    // The corners of the lanes' mesh triangles. The other lanes, found below, get a stand-in of
+    // unit normal: every lane then goes through the SIMD loops, none as an unusual length.
     LaneVectors p0, p1, p2;
     int others[kMaxPacketLanes];
     int other_count = 0;
@@ -219,9 +245,9 @@ void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const 
         const bool flat_mesh = inst.kind == ShapeKind::Mesh && inst.transform == kNoTransform &&
                                !scene.meshes[inst.shape].mesh.has_normals();
         if (!flat_mesh) {
-            p0.set(j, {});
-            p1.set(j, {});
-            p2.set(j, {});
+            p0.set(j, {0, 0, 0});
+            p1.set(j, {1, 0, 0});
+            p2.set(j, {0, 1, 0});
             others[other_count++] = j;
             continue;
         }
@@ -235,6 +261,17 @@ void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const 
         p1.set(j, corners.p1);
         p2.set(j, corners.p2);
     }
+    // corner_scale, lane by lane: the largest of nine finite coordinates is the same found in any
+    // order, and these loops of comparisons and fabs are SIMD.
+    for (int j = 0; j < count; ++j) {
+        const float a = std::fabs(p0.x[j]), b = std::fabs(p0.y[j]), c = std::fabs(p0.z[j]);
+        const float d = std::fabs(p1.x[j]), e = std::fabs(p1.y[j]), f = std::fabs(p1.z[j]);
+        const float g = std::fabs(p2.x[j]), h = std::fabs(p2.y[j]), i = std::fabs(p2.z[j]);
+        const float ab = a > b ? a : b, cd = c > d ? c : d, ef = e > f ? e : f, gh = g > h ? g : h;
+        const float abcd = ab > cd ? ab : cd, efgh = ef > gh ? ef : gh;
+        const float all8 = abcd > efgh ? abcd : efgh;
+        out.geometry_scale[j] = all8 > i ? all8 : i;
+    }
     // ray.at(t) and triangle_normal, operation for operation: normalize((p1 − p0) × (p2 − p0)).
     LaneVectors& normal = out.normal;
     for (int j = 0; j < count; ++j) {
@@ -244,21 +281,33 @@ void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const 
         out.position.y[j] = ray.origin.y + ray.direction.y * t;
         out.position.z[j] = ray.origin.z + ray.direction.z * t;
     }
+    // normalize_any_length, as triangle_normal does: a lane whose cross product is too long or too
+    // short to square in float (has_ordinary_length) is normalised on its own. Nearly always
+    // none is: asked in the same SIMD loop.
+    int unusual_lanes = 0;
     for (int j = 0; j < count; ++j) {
         const float ax = p1.x[j] - p0.x[j], ay = p1.y[j] - p0.y[j], az = p1.z[j] - p0.z[j];
         const float bx = p2.x[j] - p0.x[j], by = p2.y[j] - p0.y[j], bz = p2.z[j] - p0.z[j];
-        normal.x[j] = ay * bz - az * by;
-        normal.y[j] = az * bx - ax * bz;
-        normal.z[j] = ax * by - ay * bx;
+        const float nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+        normal.x[j] = nx;
+        normal.y[j] = ny;
+        normal.z[j] = nz;
+        const float squared = nx * nx + ny * ny + nz * nz;
+        unusual_lanes |= static_cast<int>(!(squared > 1e-30f) | !(squared < 1e30f));
     }
-    float length[kMaxPacketLanes];
-    normalize_lanes(normal, length, count);
+    if (unusual_lanes != 0) {
+        normalize_any_length_lanes(normal, count);
+    } else {
+        float length[kMaxPacketLanes];
+        normalize_lanes(normal, length, count);
+    }
     out.geometric_normal = normal;  // a flat triangle's, and overwritten for the others
     for (int i = 0; i < other_count; ++i) {
         const int j = others[i];
         const SurfacePoint surface = surface_at(scene, rays[lanes[j]], hits[lanes[j]]);
         normal.set(j, surface.normal);
         out.geometric_normal.set(j, surface.geometric_normal);
+        out.geometry_scale[j] = surface.geometry_scale;
     }
 }
 

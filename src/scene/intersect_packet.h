@@ -43,8 +43,11 @@ const MeshRayKernel& mesh_ray_kernel(PacketIsa isa);
 struct SurfaceLanes {
     LaneVectors position, normal, geometric_normal;
     uint32_t material[kMaxPacketLanes];
+    float geometry_scale[kMaxPacketLanes];
 
-    SurfacePoint at(int j) const { return {position.at(j), normal.at(j), geometric_normal.at(j), material[j]}; }
+    SurfacePoint at(int j) const {
+        return {position.at(j), normal.at(j), geometric_normal.at(j), material[j], geometry_scale[j]};
+    }
 };
 
 /// surface_at(scene, rays[k], hits[k]) for k = lanes[j], j < count (all hits), into lane j of

@@ -106,6 +106,12 @@ struct SurfacePoint {
     /// normal can point to the other side of the triangle, and a ray moved that way meets it again.
     Vec3f geometric_normal;
     uint32_t material = 0;
+    /// How large the numbers were that the hit's shape was given in, in world units: for a
+    /// triangle, the largest coordinate of its corners; 0 for the other shapes, whose hits are as
+    /// accurate as the ray that found them. A point found on a triangle 4000 across is only as
+    /// accurate as its corners, however near the origin it lies: new rays leave it by an offset
+    /// that grows with this (render/shade.h, hit_travel_scale).
+    float geometry_scale = 0;
 };
 
 SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit);
