@@ -285,17 +285,16 @@ TEST(RenderTest, ShadowPacketsGiveTheSameImageAndCountsAsSingleRays) {
         }
 }
 
-// A scene whose instance BVH is one leaf is traced without that leaf's box on every path. Here
-// the box is too thin for the box test's stand-in for 1/0 (a sphere of radius 1e-45 seen along
-// the z axis from 1e18 away): found by fuzz_render_pipeline, where packets missed the sphere that
-// single rays (and explain) hit.
-// A floor of two triangles 4000 across, as students make one, under spheres and a point light: a
-// hit near the origin is only as accurate as the floor's corners (3e-5 off it), and with shadow
-// rays offset for the hit's own coordinates, 3% of the floor met the floor again and went black,
-// differently on every path (whose box tests passed different false hits to the triangle test).
-// Offset for the corners too (SurfacePoint::geometry_scale), it is the plane floor's image but for
-// pixels where a shadow's edge grazes a sphere, and the same image on every path.
-TEST(RenderTest, AFloorOfTwoHugeTrianglesIsLitAsAPlaneFloor) {
+// Floors as students make them, under spheres and a point light: two triangles 4000 across, the
+// same from two unit triangles under a Transform scaled 2000 times, and a sphere of radius 2000.
+// A hit near the origin is only as accurate as the floor's own numbers (on the triangles, 3e-5 off
+// the floor), and with shadow rays offset for the hit's coordinates alone, 3-11% of the floor met
+// the floor again and went black, differently on every path (whose box tests passed different
+// false hits to the triangle test). Offset for the shape's scale too (SurfacePoint::geometry_scale,
+// in world units under a transform), each floor is shadowed as a plane floor is, and every path
+// gives the same image: the triangles' the plane's but for pixels where a shadow's edge grazes a
+// sphere; the curved sphere's with as many shadowed pixels, give or take a shadow's edge.
+TEST(RenderTest, FloorsOfHugeTrianglesAndSpheresAreShadowedAsAPlaneFloor) {
     const auto scene_with_floor = [](ObjectDesc floor) {
         SceneDesc desc;
         desc.file = "floor.txt";
@@ -307,24 +306,58 @@ TEST(RenderTest, AFloorOfTwoHugeTrianglesIsLitAsAPlaneFloor) {
         return build(std::move(desc));
     };
     const float h = -1.2f, r = 2000;
-    const Scene triangles = scene_with_floor(group({triangle({-r, h, -r}, {-r, h, r}, {r, h, r}, 1),
-                                                    triangle({-r, h, -r}, {r, h, r}, {r, h, -r}, 1)}));
-    const Scene plane_floor = scene_with_floor(plane({0, 1, 0}, h, 1));
+    const auto two_triangles = [](float half, float y) {
+        return group({triangle({-half, y, -half}, {-half, y, half}, {half, y, half}, 1),
+                      triangle({-half, y, -half}, {half, y, half}, {half, y, -half}, 1)});
+    };
     RenderOptions single = options_with(PacketIsa::None);
     single.shadows = true;
-    const Image reference = render_image(triangles, single);
-    for (PacketIsa isa : packet_isas()) {
-        RenderOptions packets = single;
-        packets.packet_isa = isa;
-        EXPECT_TRUE(same_floats(render_image(triangles, packets), reference)) << packet_isa_name(isa);
-    }
+    RenderOptions unshadowed = single;
+    unshadowed.shadows = false;
+    // The pixels that shadows darken.
+    const auto shadowed_pixels = [&](const Scene& scene) {
+        const Image lit = render_image(scene, unshadowed), shadowed = render_image(scene, single);
+        int count = 0;
+        for (size_t i = 0; i < lit.pixels.size(); ++i) count += max_abs(lit.pixels[i] - shadowed.pixels[i]) > 1.0f / 255;
+        return count;
+    };
+    const Scene plane_floor = scene_with_floor(plane({0, 1, 0}, h, 1));
     const Image plane_image = render_image(plane_floor, single);
-    int differ = 0;
-    for (size_t i = 0; i < reference.pixels.size(); ++i)
-        differ += max_abs(reference.pixels[i] - plane_image.pixels[i]) > 1.0f / 255;
-    EXPECT_LE(differ, 5) << "of " << reference.pixels.size();
+    const int plane_shadowed = shadowed_pixels(plane_floor);
+    ASSERT_GT(plane_shadowed, 200);
+    const struct {
+        const char* name;
+        Scene scene;
+        bool flat;  // the plane's floor exactly
+    } floors[] = {
+        {"two triangles", scene_with_floor(two_triangles(r, h)), true},
+        {"two unit triangles scaled", scene_with_floor(transform(Mat4::translate({0, h, 0}) * Mat4::scale({r, r, r}),
+                                                                 two_triangles(1, 0))),
+         true},
+        {"a sphere", scene_with_floor(sphere({0, h - r, 0}, r, 1)), false},
+    };
+    for (const auto& floor : floors) {
+        SCOPED_TRACE(floor.name);
+        const Image reference = render_image(floor.scene, single);
+        for (PacketIsa isa : packet_isas()) {
+            RenderOptions packets = single;
+            packets.packet_isa = isa;
+            EXPECT_TRUE(same_floats(render_image(floor.scene, packets), reference)) << packet_isa_name(isa);
+        }
+        if (floor.flat) {
+            int differ = 0;
+            for (size_t i = 0; i < reference.pixels.size(); ++i)
+                differ += max_abs(reference.pixels[i] - plane_image.pixels[i]) > 1.0f / 255;
+            EXPECT_LE(differ, 5) << "of " << reference.pixels.size();
+        }
+        EXPECT_NEAR(shadowed_pixels(floor.scene), plane_shadowed, 20) << "of " << reference.pixels.size();
+    }
 }
 
+// A scene whose instance BVH is one leaf is traced without that leaf's box on every path. Here
+// the box is too thin for the box test's stand-in for 1/0 (a sphere of radius 1e-45 seen along
+// the z axis from 1e18 away): found by fuzz_render_pipeline, where packets missed the sphere that
+// single rays (and explain) hit.
 TEST(RenderTest, ALoneInstanceIsTestedWithoutItsBoxOnEveryPath) {
     const Scene scene = build(load_scene_text(R"(OrthographicCamera {
     center 0 0 9.99999984e+17 direction 0 0 -1 up 0 1 0 size 1.40129846e-45 width 8 height 6 }

@@ -123,8 +123,8 @@ inline bool ends_clear_of_boxes(const SkippableBackFaces& skippable, float offse
 /// Whether a shadow ray from a camera hit starts on the camera's side of the hit's plane:
 /// offset_ray_origin moves it off the plane of `geometric_normal` to the side of `to_light`, and
 /// the camera ray came from the side of `to_viewer`. False when that one lies in the plane (or is
-/// NaN), and for a normal that is not of unit length (surface normals always are; a zero one, or a
-/// tiny one, would start the ray about at the hit, on either side).
+/// NaN), and for a normal that is not of unit length (a zero or tiny one would start the ray
+/// about at the hit, on either side).
 inline bool origin_on_camera_side(Vec3f geometric_normal, Vec3f to_light, Vec3f to_viewer) {
     if (!(dot(geometric_normal, geometric_normal) > 0.5f)) return false;
     // offset_ray_origin_by's own test: the origin goes to the normal's negative side where this is < 0.

@@ -176,6 +176,7 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
         case ShapeKind::Sphere: {
             const Sphere& sphere = scene.spheres[inst.shape];
             normal = normalize_any_length(object_ray.at(hit.t) - sphere.center);
+            surface.geometry_scale = max_abs(sphere.center) + sphere.radius;
             break;
         }
         case ShapeKind::Plane:
@@ -219,7 +220,7 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
         normal = transform_normal(object_from_world, normal);
         surface.geometric_normal = transform_normal(object_from_world, surface.geometric_normal);
         // The test ran in object space, where an error in t is the same but the direction is
-        // longer or shorter: in world units the corners' scale goes with the world direction.
+        // longer or shorter: in world units the shape's scale goes with the world direction.
         if (surface.geometry_scale > 0) {
             const float world_scale = surface.geometry_scale * (max_abs(ray.direction) / max_abs(object_ray.direction));
             surface.geometry_scale = std::isfinite(world_scale) ? world_scale : 0.0f;
@@ -272,7 +273,7 @@ void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const 
         const float all8 = abcd > efgh ? abcd : efgh;
         out.geometry_scale[j] = all8 > i ? all8 : i;
     }
-    // ray.at(t) and triangle_normal, operation for operation: normalize((p1 − p0) × (p2 − p0)).
+    // ray.at(t) and triangle_normal, operation for operation: normalize_any_length((p1 − p0) × (p2 − p0)).
     LaneVectors& normal = out.normal;
     for (int j = 0; j < count; ++j) {
         const Ray& ray = rays[lanes[j]];

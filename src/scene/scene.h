@@ -107,10 +107,12 @@ struct SurfacePoint {
     Vec3f geometric_normal;
     uint32_t material = 0;
     /// How large the numbers were that the hit's shape was given in, in world units: for a
-    /// triangle, the largest coordinate of its corners; 0 for the other shapes, whose hits are as
-    /// accurate as the ray that found them. A point found on a triangle 4000 across is only as
-    /// accurate as its corners, however near the origin it lies: new rays leave it by an offset
-    /// that grows with this (render/shade.h, hit_travel_scale).
+    /// triangle, the largest coordinate of its corners; for a sphere, its centre's largest
+    /// coordinate plus its radius; 0 for planes (whose test's error is that of the point's own
+    /// coordinates) and surfaces of revolution (not measured). A point found on a triangle 4000
+    /// across, or on a sphere of radius 2000 used as a floor, is only as accurate as the shape's
+    /// numbers, however near the origin it lies: new rays leave it by an offset that grows with
+    /// this (render/shade.h, hit_travel_scale).
     float geometry_scale = 0;
 };
 
