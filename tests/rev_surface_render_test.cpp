@@ -143,6 +143,24 @@ TEST(RevSurfaceRenderTest, ExactSurfacesMatchADenseTessellation) {
     EXPECT_GT(coarse.pixels_beyond(2), coarse.pixel_count / 100);
 }
 
+// Each of --along and --around may be 100000, but not both at once: raycast_revolve once tried to
+// make 10^10 vertices and died of an uncaught std::bad_alloc. Now a usage error, before the scene
+// is read, from just past the limit.
+TEST(RevSurfaceRenderTest, RevolveRefusesMoreVerticesThanItsLimit) {
+    const std::string dir = exact_dir("revolve_limit");
+    const std::string tool = "'" + std::string(RAYCAST_BINARY_DIR) + "/raycast_revolve' ";
+    const test::RunResult refused =
+        test::run_command("cd '" + dir + "' && " + tool + "exact.txt big.txt --along 100000 --around 100000 2>&1");
+    EXPECT_EQ(refused.exit_code, 2);
+    EXPECT_EQ(refused.output,
+              "raycast_revolve: --along 100000 by --around 100000 makes 10000100000 vertices a surface, more than the "
+              "limit of 16777216\n");
+    EXPECT_FALSE(test::file_exists(dir + "/big.txt"));
+    const test::RunResult just_over =
+        test::run_command("cd '" + dir + "' && " + tool + "exact.txt big.txt --along 4096 --around 4096 2>&1");
+    EXPECT_EQ(just_over.exit_code, 2) << just_over.output;  // 4097 × 4096 vertices, 2^24 + 4096
+}
+
 TEST(RevSurfaceRenderTest, PacketsThreadsAndCropPiecesGiveTheSameImage) {
     const std::string dir = exact_dir("paths");
     const ImageRgb8 packets = render(dir, "exact.txt", "packets.ppm", "--threads 2");

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,17 @@ int run(int argc, char** argv) {
             return 2;
         }
     }
+    // Each option alone may be 100000, but not both: 10^10 vertices would not fit in memory, nor
+    // their numbers in an OBJ index. 2^24 vertices a surface is about a gigabyte of mesh.
+    constexpr long long kMaxVertices = 1LL << 24;
+    const long long vertices = (static_cast<long long>(along) + 1) * around;
+    if (vertices > kMaxVertices) {
+        std::fprintf(stderr,
+                     "raycast_revolve: --along %d by --around %d makes %lld vertices a surface, more than the "
+                     "limit of %lld\n",
+                     along, around, vertices, kMaxVertices);
+        return 2;
+    }
     const std::string text = read_text_file(scene, "scene file", kMaxSceneFileBytes);
     const SceneDesc desc = parse_scene(text, scene);
     std::vector<const Curve*> profiles;
@@ -117,6 +129,9 @@ int main(int argc, char** argv) {
         return raycast::run(argc, argv);
     } catch (const raycast::InputError& error) {
         for (const raycast::Diagnostic& d : error.diagnostics()) std::fputs(raycast::format_diagnostic(d).c_str(), stderr);
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fputs("raycast_revolve: error: out of memory\n", stderr);
         return 1;
     }
 }
