@@ -498,7 +498,11 @@ RevSurface make_rev_surface(const Curve& profile) {
         const bool is_point = std::all_of(piece.points.begin(), piece.points.end(), [&](const Vec3d& p) {
             return p.x == piece.points[0].x && p.y == piece.points[0].y;
         });
-        if (is_point) continue;
+        // A piece on the axis turns into a segment of it: no area, never seen, but a ray exactly
+        // through the axis found it (every other column of a profile drawn on the axis).
+        const bool on_axis =
+            std::all_of(piece.points.begin(), piece.points.end(), [](const Vec3d& p) { return p.x == 0; });
+        if (is_point || on_axis) continue;
         // Cut at every turn of x or y; the last part keeps the piece's own end point, so that
         // neighbouring pieces still share theirs exactly.
         double done = 0;

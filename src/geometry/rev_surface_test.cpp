@@ -110,6 +110,30 @@ TEST(RevSurfaceTest, ConeHitsWorkedOutByHand) {
     EXPECT_FLOAT_EQ(hit.t, 6);
 }
 
+// A profile on the axis turns into a segment of it: no area, so never hit, not even by a ray
+// exactly through the axis (which used to find it: a dotted line down the image). Of a B-spline
+// whose middle lies on the axis, the pieces off it stay.
+TEST(RevSurfaceTest, PiecesOnTheAxisAreNeverHit) {
+    const RevSurface on_axis = make_rev_surface(line_profile({0, -1}, {0, 1}));
+    EXPECT_TRUE(on_axis.nodes.empty());
+    RevSurfaceHit hit;
+    EXPECT_FALSE(hit_of(on_axis, {{0, 0, 5}, {0, 0, -1}}, hit));
+    EXPECT_FALSE(hit_of(on_axis, {{0, 5, 0}, {0, -1, 0}}, hit));
+    // Five cubic B-spline pieces, over y from -2 to about 2.17: in to the axis, up it, and out
+    // again. The middle piece (control points 2..5, all at x = 0) spans y 0..1 on the axis.
+    const Curve bent{CurveType::Bspline, {{1, -3, 0}, {1, -2, 0}, {0, -1, 0}, {0, 0, 0}, {0, 1, 0}, {0, 2, 0},
+                                          {1, 2, 0}, {1, 3, 0}}};
+    const RevSurface surface = make_rev_surface(bent);
+    ASSERT_EQ(surface.piece_count() > 0, true);
+    EXPECT_FALSE(hit_of(surface, {{0, 0.5f, 5}, {0, 0, -1}}, hit));  // through the axis, where the middle lies
+    EXPECT_TRUE(hit_of(surface, {{0, -1.8f, 5}, {0, 0, -1}}, hit));  // the lowest piece, off the axis
+    EXPECT_GT(hit.t, 4);
+    EXPECT_LT(hit.t, 5);
+    EXPECT_TRUE(hit_of(surface, {{0, 1.9f, 5}, {0, 0, -1}}, hit));   // the highest
+    EXPECT_GT(hit.t, 4);
+    EXPECT_LT(hit.t, 5);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Brute force
 

@@ -280,7 +280,7 @@ private:
                 instance.shape = static_cast<uint32_t>(scene_.rev_surfaces.size());
                 scene_.rev_surfaces.push_back(make_rev_surface(object.curve));
                 const RevSurface& surface = scene_.rev_surfaces.back();
-                if (surface.nodes.empty()) return;  // every control point the same: a point, never hit
+                if (surface.nodes.empty()) return;  // every piece a point or on the axis: never hit
                 // Tight even when rotated: the boxes of the cylinders around the monotone pieces.
                 bounds_.push_back({pad(rev_surface_bounds(surface, world_from_object)), id});
                 check_extent(object, bounds_.back().bounds);
