@@ -73,9 +73,12 @@ inline const char* next_line(const char* p, const char* end) {
     return newline ? static_cast<const char*>(newline) + 1 : end;
 }
 
-// Some Windows tools start UTF-8 files with a byte order mark; it is not part of the first statement.
+// Some Windows tools start UTF-8 files with a byte order mark; it is not part of the first
+// statement. Files joined together (`copy /b a.obj+b.obj`, `cat`) carry one at the start of a line
+// inside: skipped there too, or the statement after it would be dropped as unknown and every
+// relative index after it would shift. One byte compared per line.
 inline const char* skip_byte_order_mark(const char* p, const char* end) {
-    return end - p >= 3 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0 ? p + 3 : p;
+    return p != end && *p == '\xEF' && end - p >= 3 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0 ? p + 3 : p;
 }
 
 enum class Statement { Vertex, Normal, TexCoord, Face, Other };
@@ -187,13 +190,12 @@ std::vector<Chunk> split_into_chunks(std::string_view text, int threads, size_t 
 // write straight into exactly sized arrays. It must classify lines exactly as ChunkParser does.
 // It also finds the first byte that shows the file is binary (sceneio/text_check.h), if any: a
 // NUL, or a line that starts like no text; the file is then refused before anything is parsed.
-void count_chunk(Chunk& chunk, const char* text_begin) {
+void count_chunk(Chunk& chunk) {
     const char* p = chunk.begin;
     const char* end = chunk.end;
     const char* nul = static_cast<const char*>(std::memchr(p, 0, static_cast<size_t>(end - p)));
     while (p != end) {
-        if (p == text_begin) p = skip_byte_order_mark(p, end);
-        p = skip_blanks(p, end);
+        p = skip_blanks(skip_byte_order_mark(p, end), end);
         if (p != end && is_suspect_line_start(static_cast<unsigned char>(*p)) && non_text_problem(p, end)) {
             chunk.first_non_text = nul && nul < p ? nul : p;
             return;
@@ -246,16 +248,16 @@ enum class IndexKind { Vertex, TexCoord, Normal };
 // positions and records up to kMaxReportedErrors located diagnostics.
 class ChunkParser {
 public:
-    ChunkParser(Chunk& chunk, const MeshOutput& out, const char* text_begin, const std::string& file_name)
-        : chunk_(chunk), out_(out), text_begin_(text_begin), end_(chunk.end), file_name_(file_name),
+    ChunkParser(Chunk& chunk, const MeshOutput& out, const std::string& file_name)
+        : chunk_(chunk), out_(out), end_(chunk.end), file_name_(file_name),
           line_(chunk.first_line), vertex_(chunk.vertex_base), normal_(chunk.normal_base),
           texcoord_(chunk.texcoord_base), triangle_(chunk.triangle_base) {}
 
     void run() {
         const char* p = chunk_.begin;
         while (p != end_) {
-            line_start_ = p;
-            if (p == text_begin_) p = skip_byte_order_mark(p, end_);
+            p = skip_byte_order_mark(p, end_);
+            line_start_ = p;  // columns count from after a byte order mark, which shows as nothing
             p = skip_blanks(p, end_);
             const char* keyword = p;
             switch (read_keyword(p, end_)) {
@@ -470,7 +472,6 @@ private:
 
     Chunk& chunk_;
     const MeshOutput& out_;
-    const char* text_begin_;
     const char* end_;
     const std::string& file_name_;
     const char* line_start_ = nullptr;
@@ -487,7 +488,7 @@ TriangleMesh parse_obj(std::string_view text, const std::string& file_name, cons
     const int threads = std::max(1, options.threads);
     std::vector<Chunk> chunks = split_into_chunks(text, threads, options.chunk_bytes);
     const char* text_begin = text.data();
-    parallel_for(chunks.size(), threads, [&](size_t item, int) { count_chunk(chunks[item], text_begin); });
+    parallel_for(chunks.size(), threads, [&](size_t item, int) { count_chunk(chunks[item]); });
     for (const Chunk& chunk : chunks)
         if (chunk.first_non_text) {
             const size_t offset = static_cast<size_t>(chunk.first_non_text - text_begin);
@@ -532,7 +533,7 @@ TriangleMesh parse_obj(std::string_view text, const std::string& file_name, cons
         out.normal_indices = uses_normals ? mesh.normal_indices.data() : nullptr;
     }
     parallel_for(chunks.size(), threads, [&](size_t item, int) {
-        ChunkParser(chunks[item], out, text_begin, file_name).run();
+        ChunkParser(chunks[item], out, file_name).run();
     });
 
     std::vector<Diagnostic> errors;

@@ -76,6 +76,27 @@ Vec3f map(const std::string& items, Vec3f p) { return transform_point(transform_
 
 // ---- camera -------------------------------------------------------------------------------------
 
+// Windows editors may save "UTF-8 with BOM": the mark is not part of the first keyword (it was
+// read as one, 'unknown keyword' naming an invisible word), and columns count from after it.
+TEST(ParseSceneTest, AUtf8ByteOrderMarkIsSkipped) {
+    const std::string bom = "\xEF\xBB\xBF";
+    const SceneDesc with_mark = parse(bom + scene_with_group(1, kUnitSphere));
+    ASSERT_TRUE(with_mark.camera.has_value());
+    EXPECT_EQ(with_mark.camera->width, 20);
+    EXPECT_EQ(with_mark.root->children.size(), 1u);
+    EXPECT_EQ(parse(bom + "# a comment first\n" + scene_with_group(1, kUnitSphere)).root->children.size(), 1u);
+    try {
+        parse(bom + "PerspectiveCamera { angle x }");
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& error) {
+        ASSERT_FALSE(error.diagnostics().empty());
+        const Diagnostic& d = error.diagnostics()[0];
+        EXPECT_EQ(d.location.line, 1);
+        EXPECT_EQ(d.location.column, 27);  // of the 'x', as an editor counts it
+        EXPECT_EQ(d.source_line, "PerspectiveCamera { angle x }");
+    }
+}
+
 TEST(ParseSceneTest, ReadsThePerspectiveCameraAsWritten) {
     const SceneDesc desc = parse(
         "PerspectiveCamera { center 13 11 30 direction -.16 -.12 -.5 up 0 1 0 angle 30 width 200 height 100 }\n"
