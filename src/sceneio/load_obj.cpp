@@ -19,6 +19,7 @@
 #include "base/limits.h"
 #include "base/parallel.h"
 #include "base/parse_number.h"
+#include "geometry/polygon.h"
 #include "sceneio/text_check.h"
 
 namespace raycast {
@@ -152,6 +153,7 @@ struct Chunk {
     uint64_t normals = 0;
     uint64_t texcoords = 0;
     uint64_t triangles = 0;
+    uint64_t polygons = 0;  // faces of more than three corners
     bool uses_normals = false;
     const char* first_non_text = nullptr;  // the chunk's first byte that shows a binary file
 
@@ -163,6 +165,13 @@ struct Chunk {
     uint64_t triangle_base = 0;
 
     std::vector<Diagnostic> errors;
+    // Faces of more than three corners, written as fans: cut again once every vertex is known
+    // (retriangulate_polygons), since a face may name vertices that come later in the file.
+    struct Polygon {
+        uint64_t first_triangle;
+        uint64_t corners;
+    };
+    std::vector<Polygon> polygon_faces;
 };
 
 std::vector<Chunk> split_into_chunks(std::string_view text, int threads, size_t chunk_bytes) {
@@ -220,6 +229,7 @@ void count_chunk(Chunk& chunk) {
                 ++corners;
             }
             if (corners >= 3) chunk.triangles += corners - 2;
+            if (corners > 3) ++chunk.polygons;
             break;
         }
         case Statement::Other: break;
@@ -254,6 +264,7 @@ public:
           texcoord_(chunk.texcoord_base), triangle_(chunk.triangle_base) {}
 
     void run() {
+        if (out_.indices) chunk_.polygon_faces.reserve(chunk_.polygons);
         const char* p = chunk_.begin;
         while (p != end_) {
             p = skip_byte_order_mark(p, end_);
@@ -360,6 +371,8 @@ private:
         if (corners < 3)
             error(keyword, string_printf("a face needs at least 3 vertices, this one has %llu",
                                          static_cast<unsigned long long>(corners)));
+        if (corners > 3 && corners <= kMaxEarClippedCorners && out_.indices)
+            chunk_.polygon_faces.push_back({triangle_ - (corners - 2), corners});
     }
 
     void add_triangle(const char* keyword, Corner a, Corner b, Corner c) {
@@ -482,6 +495,35 @@ private:
     uint64_t triangle_;
 };
 
+// Cuts each face of more than three corners again where its fan was wrong (a concave polygon):
+// triangulate_polygon on its corners, now that every vertex is known. The face keeps its
+// count − 2 triangles, in the same places, so nothing moves.
+void retriangulate_polygons(const std::vector<Chunk>& chunks, TriangleMesh& mesh, int threads) {
+    parallel_for(chunks.size(), threads, [&](size_t item, int) {
+        uint32_t vertex[kMaxEarClippedCorners], normal[kMaxEarClippedCorners];
+        uint32_t triangles[3 * (kMaxEarClippedCorners - 2)];
+        Vec3f points[kMaxEarClippedCorners];
+        for (const Chunk::Polygon& polygon : chunks[item].polygon_faces) {
+            const int n = static_cast<int>(polygon.corners);
+            uint32_t* indices = &mesh.indices[3 * polygon.first_triangle];
+            uint32_t* normal_indices = mesh.has_normals() ? &mesh.normal_indices[3 * polygon.first_triangle] : nullptr;
+            // The fan (0, k + 1, k + 2) holds corner 0 first in every triangle, then the rest in turn.
+            for (int k = 0; k < n; ++k) {
+                const size_t at = k == 0 ? 0 : (k == 1 ? 1 : 3 * static_cast<size_t>(k - 2) + 2);
+                vertex[k] = indices[at];
+                if (normal_indices) normal[k] = normal_indices[at];
+                points[k] = mesh.positions[vertex[k]];
+            }
+            if (n == 4 && quad_fan_tiles(points[0], points[1], points[2], points[3])) continue;
+            if (!triangulate_polygon(points, n, triangles)) continue;
+            for (int i = 0; i < 3 * (n - 2); ++i) {
+                indices[i] = vertex[triangles[i]];
+                if (normal_indices) normal_indices[i] = normal[triangles[i]];
+            }
+        }
+    });
+}
+
 }  // namespace
 
 TriangleMesh parse_obj(std::string_view text, const std::string& file_name, const ObjLoadOptions& options) {
@@ -549,6 +591,7 @@ TriangleMesh parse_obj(std::string_view text, const std::string& file_name, cons
     if (errors.size() > static_cast<size_t>(kMaxReportedErrors)) errors.resize(static_cast<size_t>(kMaxReportedErrors));
     RAYCAST_CHECK(fits || !errors.empty());
     if (!errors.empty()) throw InputError(std::move(errors));
+    retriangulate_polygons(chunks, mesh, threads);
     return mesh;
 }
 

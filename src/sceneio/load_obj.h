@@ -1,4 +1,5 @@
-// Wavefront OBJ meshes: v, vn and f (every index form, negative indices, polygons as fans), parsed in
+// Wavefront OBJ meshes: v, vn and f (every index form, negative indices, polygons as fans, concave
+// ones cut again once every vertex is known: geometry/polygon.h), parsed in
 // parallel chunks with located diagnostics. Entry points: load_obj_file, parse_obj.
 #pragma once
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "geometry/polygon.h"
 
 namespace raycast {
 namespace {
@@ -111,7 +112,34 @@ TEST(LoadObj, PositiveIndicesMayReferForward) {
     EXPECT_EQ(mesh.normal_indices, (std::vector<uint32_t>{N, N, N, 0, 0, 0}));
 }
 
-TEST(LoadObj, PolygonsBecomeFansThatKeepTheWinding) {
+// A concave face (an L, as Blender writes n-gons) is cut around its notch, not fanned across it
+// (triangulate_polygon, geometry/polygon.h), once every vertex is known: here the face names
+// vertices that come after it, in another chunk. Its normal indices go with their corners.
+TEST(LoadObj, ConcavePolygonsAreCutAroundTheirNotch) {
+    const std::string text = "f 1//1 2//2 3//3 4//4 5//5 6//6\n"
+                             "v 1 -1 0\nv 1 0 0\nv 0 0 0\nv 0 1 0\nv -1 1 0\nv -1 -1 0\n"
+                             "vn 0 0 1\nvn 0 0 2\nvn 0 0 3\nvn 0 0 4\nvn 0 0 5\nvn 0 0 6\n";
+    std::vector<uint32_t> expected(12);
+    std::vector<Vec3f> corners{{1, -1, 0}, {1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {-1, 1, 0}, {-1, -1, 0}};
+    ASSERT_TRUE(triangulate_polygon(corners.data(), 6, expected.data()));
+    for (size_t chunk_bytes : {size_t{0}, size_t{5}, size_t{40}}) {
+        ObjLoadOptions options;
+        options.threads = 2;
+        options.chunk_bytes = chunk_bytes;
+        const TriangleMesh mesh = parse_obj(text, "m.obj", options);
+        EXPECT_EQ(mesh.indices, expected) << chunk_bytes;
+        EXPECT_EQ(mesh.normal_indices, expected) << chunk_bytes;  // normal k sits with vertex k
+    }
+    // No triangle of the L crosses its missing quarter: none has both corner 0 (1, -1) and 3 (0, 1).
+    for (size_t t = 0; t < expected.size(); t += 3) {
+        const bool has0 = expected[t] == 0 || expected[t + 1] == 0 || expected[t + 2] == 0;
+        const bool has3 = expected[t] == 3 || expected[t + 1] == 3 || expected[t + 2] == 3;
+        EXPECT_FALSE(has0 && has3) << t / 3;
+    }
+}
+
+// Convex polygons: fans from the first corner, as every OBJ reader cuts them.
+TEST(LoadObj, ConvexPolygonsBecomeFansThatKeepTheWinding) {
     const std::string head = "v 0 0 0\nv 1 0 0\nv 2 1 0\nv 1 2 0\nv 0 1 0\n";
     EXPECT_EQ(parse(head + "f 1 2 3 4\n").indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
     EXPECT_EQ(parse(head + "f 5 4 3 2 1\n").indices, (std::vector<uint32_t>{4, 3, 2, 4, 2, 1, 4, 1, 0}));
