@@ -199,6 +199,22 @@ TEST(BadInputTest, AMeshFileThatIsNotTextIsRefusedAtItsFirstBadByte) {
     }
 }
 
+// A typo in an OBJ file (a face written 'f1') drops the line: the user is told where, in the OBJ
+// file, and the rest renders (LoadObj.UnknownStatementsAreSkippedWithAWarning has the rules).
+TEST(BadInputTest, AnUnknownObjStatementIsWarnedAboutInTheObjFile) {
+    const std::string dir = fresh_dir("unknown_statement");
+    write_file(dir + "/typo.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf1 3 4\n");
+    write_file(dir + "/scene.txt", scene_with_mesh("typo.obj"));
+    const RunResult run = run_guarded("scene.txt out.ppm", dir);
+    EXPECT_EQ(run.exit_code, 0);
+    EXPECT_EQ(run.output,
+              "typo.obj:6:1: warning: unknown statement 'f1': the line is skipped (raycast reads v, vn, vt and f, "
+              "and passes over the other OBJ statements: o, g, s, usemtl, ...)\n"
+              "  f1 3 4\n"
+              "  ^\n");
+    EXPECT_TRUE(file_exists(dir + "/out.ppm"));
+}
+
 TEST(BadInputTest, AMeshWithNoFacesIsWarnedAboutAtTheTriangleMesh) {
     // Points only, or comments only: the mesh draws nothing, and the image is the background's.
     for (const char* obj : {"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "# nothing here\n"}) {

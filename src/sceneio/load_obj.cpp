@@ -128,6 +128,21 @@ std::string shorten_token(const char* first, const char* last) {
 
 std::string quote_token(const char* first, const char* last) { return "'" + shorten_token(first, last) + "'"; }
 
+// Whether a statement the loader skips is one the OBJ format defines (groups, smoothing,
+// materials, free-form geometry, lines, points): skipped in silence. Anything else is a typo
+// ('f1', 'V') or not OBJ, skipped with a warning: dropping a line can shift every relative index
+// after it.
+bool is_known_statement(std::string_view keyword) {
+    static constexpr std::string_view kKnown[] = {
+        "vp",    "l",    "p",    "o",    "g",    "s",   "mg",    "usemtl",   "mtllib",   "usemap",     "maplib",
+        "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm",   "trim",     "hole",       "scrv",
+        "sp",    "end",  "con",  "bevel", "c_interp", "d_interp", "lod", "shadow_obj", "trace_obj", "ctech",
+        "stech", "call", "csh"};
+    for (std::string_view known : kKnown)
+        if (keyword == known) return true;
+    return false;
+}
+
 // Sizes a mesh array that the parser is about to fill, asking for huge pages before the first touch.
 // Fresh pages dominated the load time: a 1M-triangle OBJ touches ~14k 4 KiB pages, and a page
 // fault costs ~10 us in the virtual machines we run on (2 MiB pages also spare the TLB on bare metal).
@@ -165,6 +180,8 @@ struct Chunk {
     uint64_t triangle_base = 0;
 
     std::vector<Diagnostic> errors;
+    std::vector<Diagnostic> warnings;  // statements no OBJ reader knows, the first of them
+    uint64_t unknown_statements = 0;
     // Faces of more than three corners, written as fans: cut again once every vertex is known
     // (retriangulate_polygons), since a face may name vertices that come later in the file.
     struct Polygon {
@@ -276,7 +293,10 @@ public:
             case Statement::Normal: parse_normal(keyword, p); break;
             case Statement::TexCoord: parse_texcoord(keyword, p); break;
             case Statement::Face: parse_face(keyword, p); break;
-            case Statement::Other: break;
+            case Statement::Other:
+                if (!ends_statement(p, end_) && !is_known_statement(std::string_view(p, static_cast<size_t>(skip_token(p, end_) - p))))
+                    unknown_statement(p);
+                break;
             }
             // Finish the whole line before stopping, so that errors sorted by column within it
             // are complete.
@@ -304,6 +324,24 @@ private:
         diagnostic.message = std::move(message);
         diagnostic.source_line.assign(line_start_, line_end);
         chunk_.errors.push_back(std::move(diagnostic));
+    }
+
+    // A warning for a statement no OBJ reader knows; the first kMaxReportedErrors of a chunk are
+    // kept, the rest counted.
+    [[gnu::noinline, gnu::cold]] void unknown_statement(const char* keyword) {
+        ++chunk_.unknown_statements;
+        if (chunk_.warnings.size() >= static_cast<size_t>(kMaxReportedErrors)) return;
+        const char* line_end = next_line(line_start_, end_);
+        while (line_end != line_start_ && (line_end[-1] == '\n' || line_end[-1] == '\r')) --line_end;
+        Diagnostic diagnostic;
+        diagnostic.severity = Severity::Warning;
+        diagnostic.location = {file_name_, saturate_to_int(line_),
+                               saturate_to_int(static_cast<uint64_t>(keyword - line_start_) + 1)};
+        diagnostic.message = "unknown statement " + quote_token(keyword, skip_token(keyword, end_)) +
+                             ": the line is skipped (raycast reads v, vn, vt and f, and passes over the other OBJ "
+                             "statements: o, g, s, usemtl, ...)";
+        diagnostic.source_line.assign(line_start_, line_end);
+        chunk_.warnings.push_back(std::move(diagnostic));
     }
 
     // Reads the numbers up to the end of the statement, keeps the first three in `values` and
@@ -592,6 +630,25 @@ TriangleMesh parse_obj(std::string_view text, const std::string& file_name, cons
     RAYCAST_CHECK(fits || !errors.empty());
     if (!errors.empty()) throw InputError(std::move(errors));
     retriangulate_polygons(chunks, mesh, threads);
+    if (options.warnings) {
+        uint64_t unknown = 0, shown = 0;
+        for (Chunk& chunk : chunks) {
+            unknown += chunk.unknown_statements;
+            for (Diagnostic& warning : chunk.warnings)
+                if (shown < static_cast<uint64_t>(kMaxReportedErrors)) {
+                    options.warnings->push_back(std::move(warning));
+                    ++shown;
+                }
+        }
+        if (unknown > shown) {
+            Diagnostic note;
+            note.severity = Severity::Note;
+            note.location.file = file_name;
+            note.message = string_printf("%llu more lines with unknown statements were skipped",
+                                         static_cast<unsigned long long>(unknown - shown));
+            options.warnings->push_back(std::move(note));
+        }
+    }
     return mesh;
 }
 

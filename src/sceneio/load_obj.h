@@ -6,7 +6,9 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
+#include "base/error.h"
 #include "geometry/triangle_mesh.h"
 
 namespace raycast {
@@ -15,6 +17,9 @@ namespace raycast {
 struct ObjLoadOptions {
     int threads = 1;         ///< threads that parse chunks of the text at once; values below 1 mean 1
     size_t chunk_bytes = 0;  ///< 0: chosen from the size and threads; tests set it small to exercise chunk seams
+    /// When set, receives a warning, located, for each of the first 20 statements that OBJ does not
+    /// define (a typo such as 'f1'), which are skipped, and a note counting the rest.
+    std::vector<Diagnostic>* warnings = nullptr;
 };
 
 /// Reads and parses an OBJ file. Throws InputError: "cannot open OBJ file: ..." located at the file

@@ -138,6 +138,44 @@ TEST(LoadObj, ConcavePolygonsAreCutAroundTheirNotch) {
     }
 }
 
+// A statement OBJ does not define (a typo such as 'f1', or not OBJ at all) is skipped with a
+// warning at it: dropping a line silently shifts every relative index after it. The statements
+// OBJ defines and raycast does not draw pass in silence. Past 20 warnings, a note counts the rest.
+TEST(LoadObj, UnknownStatementsAreSkippedWithAWarning) {
+    const auto warnings_of = [](const std::string& text) {
+        std::vector<Diagnostic> warnings;
+        ObjLoadOptions options;
+        options.warnings = &warnings;
+        parse_obj(text, "m.obj", options);
+        return warnings;
+    };
+    const std::string known = "o cube\ng side\ns off\nmtllib a.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+                              "vp 0.5\nl 1 2\np 3\ncstype bezier\nf 1 2 3\n\n   \n# comment\r\n\r\n";
+    EXPECT_TRUE(warnings_of(known).empty());
+    const std::vector<Diagnostic> typo = warnings_of("v 0 0 0\nv 1 0 0\nv 0 1 0\n  f1 1 2 3\nV 1 2 3\n");
+    ASSERT_EQ(typo.size(), 2u);
+    EXPECT_EQ(typo[0].severity, Severity::Warning);
+    EXPECT_EQ(located(typo[0]),
+              "m.obj:4:3: unknown statement 'f1': the line is skipped (raycast reads v, vn, vt and f, and passes over "
+              "the other OBJ statements: o, g, s, usemtl, ...)");
+    EXPECT_EQ(typo[0].source_line, "  f1 1 2 3");
+    EXPECT_EQ(typo[1].location.line, 5);
+    std::string many;
+    for (int i = 0; i < 25; ++i) many += "vx 1 2 3\n";
+    for (size_t chunk_bytes : {size_t{0}, size_t{10}}) {
+        std::vector<Diagnostic> warnings;
+        ObjLoadOptions options;
+        options.threads = 2;
+        options.chunk_bytes = chunk_bytes;
+        options.warnings = &warnings;
+        parse_obj(many, "m.obj", options);
+        ASSERT_EQ(warnings.size(), 21u) << chunk_bytes;
+        EXPECT_EQ(warnings[19].location.line, 20);
+        EXPECT_EQ(warnings[20].severity, Severity::Note);
+        EXPECT_EQ(warnings[20].message, "5 more lines with unknown statements were skipped");
+    }
+}
+
 // Convex polygons: fans from the first corner, as every OBJ reader cuts them.
 TEST(LoadObj, ConvexPolygonsBecomeFansThatKeepTheWinding) {
     const std::string head = "v 0 0 0\nv 1 0 0\nv 2 1 0\nv 1 2 0\nv 0 1 0\n";
