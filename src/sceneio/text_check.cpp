@@ -78,6 +78,10 @@ Diagnostic non_text_diagnostic(std::string_view text, size_t offset, const std::
     const char* problem = byte == 0 ? "(NUL) never appears in text" : non_text_problem(at, begin + text.size());
     RAYCAST_CHECK(problem != nullptr);
     d.message = string_printf("this is not a text file: byte 0x%02x %s", byte, problem);
+    // UTF-16 (Notepad's "Unicode", PowerShell's '>') is text, just not in a form raycast reads:
+    // its byte order mark says so.
+    if (text.size() >= 2 && ((begin[0] == '\xFF' && begin[1] == '\xFE') || (begin[0] == '\xFE' && begin[1] == '\xFF')))
+        d.message += ": the file is UTF-16 text (Notepad's \"Unicode\"); save it as UTF-8";
     return d;
 }
 

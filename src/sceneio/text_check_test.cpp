@@ -59,8 +59,11 @@ TEST(TextCheck, ABytePast0x7fStartingALineMustBeginAUtf8Character) {
     EXPECT_EQ(first_bad("\xc3" "a"), "0" + message + "c3" + rest);         // no continuation
     // 中 in GBK: D6 D0. D6 would begin a 2-byte UTF-8 character, but D0 cannot continue one.
     EXPECT_EQ(first_bad("\xd6\xd0"), "0" + message + "d6" + rest);
-    // A UTF-16 file (Notepad's "Unicode") starts with its byte order mark, FF FE, before any NUL.
-    EXPECT_EQ(first_bad("\xff\xfeP\0e\0"s), "0" + message + "ff" + rest);
+    // A UTF-16 file (Notepad's "Unicode") starts with its byte order mark, FF FE (little-endian) or
+    // FE FF, before any NUL: the message says what the file is and what to do.
+    const std::string utf16 = ": the file is UTF-16 text (Notepad's \"Unicode\"); save it as UTF-8\n";
+    EXPECT_EQ(first_bad("\xff\xfeP\0e\0"s), "0" + message + "ff" + rest.substr(0, rest.size() - 1) + utf16);
+    EXPECT_EQ(first_bad("\xfe\xff\0P\0e"s), "0" + message + "fe" + rest.substr(0, rest.size() - 1) + utf16);
 }
 
 TEST(TextCheck, TheFirstBadByteInTheFileIsReported) {
