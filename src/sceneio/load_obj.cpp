@@ -314,6 +314,14 @@ private:
         uint32_t normal = kNoNormal;
     };
 
+    // The offending line under the message, as the scene parser shows its lines: only one a
+    // terminal can show (no control bytes, at most 300 bytes). A face of 90,000 corners printed its
+    // line, 360 KB, with every error in it.
+    void show_line(Diagnostic& diagnostic, const char* line_end) const {
+        const std::string_view line(line_start_, static_cast<size_t>(line_end - line_start_));
+        if (is_displayable_source_line(line)) diagnostic.source_line = std::string(line);
+    }
+
     // Out of line and cold: errors are rare, and the hot loops stay small without them.
     [[gnu::noinline, gnu::cold]] void error(const char* at, std::string message) {
         const char* line_end = next_line(line_start_, end_);
@@ -322,7 +330,7 @@ private:
         const uint64_t column = static_cast<uint64_t>(at - line_start_) + 1;
         diagnostic.location = {file_name_, saturate_to_int(line_), saturate_to_int(column)};
         diagnostic.message = std::move(message);
-        diagnostic.source_line.assign(line_start_, line_end);
+        show_line(diagnostic, line_end);
         chunk_.errors.push_back(std::move(diagnostic));
     }
 
@@ -340,7 +348,7 @@ private:
         diagnostic.message = "unknown statement " + quote_token(keyword, skip_token(keyword, end_)) +
                              ": the line is skipped (raycast reads v, vn, vt and f, and passes over the other OBJ "
                              "statements: o, g, s, usemtl, ...)";
-        diagnostic.source_line.assign(line_start_, line_end);
+        show_line(diagnostic, line_end);
         chunk_.warnings.push_back(std::move(diagnostic));
     }
 

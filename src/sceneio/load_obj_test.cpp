@@ -439,6 +439,14 @@ TEST(LoadObjErrors, CarriesTheSourceLineForTheCaret) {
     const std::vector<Diagnostic> last = errors_of("v 0 0 0\nf 1 1 2");
     ASSERT_EQ(last.size(), 1u);
     EXPECT_EQ(last[0].source_line, "f 1 1 2");
+    // Not a line longer than 300 bytes (a face of many corners), as the scene parser's rule is:
+    // each error printed it whole.
+    std::string long_face = "v 0 0 0\nf";
+    for (int i = 0; i < 200; ++i) long_face += " 1";
+    const std::vector<Diagnostic> on_long = errors_of(long_face + " 9\n");
+    ASSERT_EQ(on_long.size(), 1u);
+    EXPECT_EQ(on_long[0].location.column, 403);
+    EXPECT_EQ(on_long[0].source_line, "");
 }
 
 TEST(LoadObjErrors, StopsAfter20Errors) {
