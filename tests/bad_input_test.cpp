@@ -215,6 +215,31 @@ TEST(BadInputTest, AnUnknownObjStatementIsWarnedAboutInTheObjFile) {
     EXPECT_TRUE(file_exists(dir + "/out.ppm"));
 }
 
+// A broken OBJ file named by two TriangleMeshes is reported once, where it is first named, and
+// the second naming gets a note (the file's errors were printed twice).
+TEST(BadInputTest, ABrokenMeshNamedTwiceIsReportedOnce) {
+    const std::string dir = fresh_dir("named_twice");
+    write_file(dir + "/bad.obj", "v 0 0 0\nv 1 x 0\n");
+    std::string scene = scene_with_mesh("bad.obj");
+    const std::string mesh = "    TriangleMesh {\n        obj_file bad.obj\n    }\n";
+    scene.insert(scene.rfind('}'), mesh);                                              // a second one
+    scene.replace(scene.find("numObjects 1"), std::string("numObjects 1").size(), "numObjects 2");
+    write_file(dir + "/scene.txt", scene);
+    const RunResult run = run_guarded("scene.txt out.ppm", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(run.output,
+              "bad.obj:2:5: error: 'x' is not a number\n"
+              "  v 1 x 0\n"
+              "      ^\n"
+              "scene.txt:25:18: note: the mesh was named here\n"
+              "          obj_file bad.obj\n"
+              "                   ^\n"
+              "scene.txt:28:18: note: the same mesh is named here too\n"
+              "          obj_file bad.obj\n"
+              "                   ^\n");
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"bad.obj", "scene.txt"}));
+}
+
 TEST(BadInputTest, AMeshWithNoFacesIsWarnedAboutAtTheTriangleMesh) {
     // Points only, or comments only: the mesh draws nothing, and the image is the background's.
     for (const char* obj : {"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "# nothing here\n"}) {

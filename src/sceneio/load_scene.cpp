@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <set>
 
 #include "base/limits.h"
 #include "sceneio/load_obj.h"
@@ -89,6 +90,12 @@ private:
             object.mesh = known->second;
             return;
         }
+        // A file that failed is reported once, where it was first named; each later naming gets a
+        // note, not the same errors again.
+        if (failed_paths_.count(*found)) {
+            errors_.push_back({Severity::Note, object.mesh_path_location, "the same mesh is named here too", ""});
+            return;
+        }
         try {
             ObjLoadOptions obj_options;
             obj_options.threads = options_.threads;
@@ -108,6 +115,7 @@ private:
         } catch (const InputError& error) {
             for (const Diagnostic& d : error.diagnostics()) errors_.push_back(d);
             errors_.push_back({Severity::Note, object.mesh_path_location, "the mesh was named here", ""});
+            failed_paths_.insert(*found);
         }
     }
 
@@ -121,6 +129,7 @@ private:
     SceneDesc& desc_;
     const SceneLoadOptions& options_;
     std::map<std::string, int> index_of_path_;
+    std::set<std::string> failed_paths_;
     std::vector<Diagnostic> errors_;
     std::vector<Diagnostic> warnings_;
 };
