@@ -68,6 +68,27 @@ TEST(SphereTest, TScalesInverselyWithTheDirectionLength) {
     EXPECT_EQ(hits, 2000);
 }
 
+// A sphere tested in the object space of a transform that shrinks it (or grows it) 1e10 times
+// sees a ray direction 1e10 (or 1e-12) long: a = |d|² and the discriminant (about r²) multiply to
+// 1e40 (or 1e-48), past float, and the hit came out black or vanished. root_of_product takes the
+// roots apart there, and only there: the same t, 9, as the sphere at its own scale.
+TEST(SphereTest, HitsWhereTheQuadraticsProductLeavesFloat) {
+    for (const float scale : {1e10f, 1e-12f}) {
+        SCOPED_TRACE(scale);
+        const Sphere sphere{{0, 0, 0}, scale};
+        float t = 0;
+        ASSERT_TRUE(intersect_sphere(sphere, {{0, 0, 10 * scale}, {0, 0, -scale}}, 0, t));
+        EXPECT_NEAR(t, 9, 1e-5f);
+        ASSERT_TRUE(intersect_sphere(sphere, {{0.6f * scale, 0, 10 * scale}, {0, 0, -scale}}, 0, t));
+        EXPECT_NEAR(t, 9.2f, 1e-5f);  // z = 0.8 on the unit sphere
+    }
+    // Where the product is ordinary, its own root, bit for bit.
+    EXPECT_EQ(root_of_product(2.0f, 8.0f), std::sqrt(2.0f * 8.0f));
+    EXPECT_EQ(root_of_product(3.0f, 0.0f), 0.0f);
+    EXPECT_EQ(root_of_product(1e20f, 1e20f), 1e20f);
+    EXPECT_EQ(root_of_product(1e-24f, 1e-24f), std::sqrt(1e-24f) * std::sqrt(1e-24f));
+}
+
 TEST(SphereTest, MatchesADoublePrecisionQuadratic) {
     // Reference: a·t² + 2b·t + c = 0 solved in double; the nearest root above t_min.
     std::mt19937 rng(2);

@@ -354,6 +354,34 @@ TEST(RenderTest, FloorsOfHugeTrianglesAndSpheresAreShadowedAsAPlaneFloor) {
     }
 }
 
+// A sphere drawn 1e10 times smaller, or 1e12 times larger, than it is given (the sphere's own
+// radius 1e10 under a scale of 1e-10) is the same sphere on every path: its quadratic's product
+// left float in object space, and it came out black (SphereTest.HitsWhereTheQuadraticsProduct...).
+TEST(RenderTest, ASphereDrawnAtAScaleFarFromItsOwnIsTheSameSphere) {
+    const auto scene_with = [](ObjectDesc ball) {
+        SceneDesc desc;
+        desc.file = "ball.txt";
+        desc.camera = perspective({0, 0, 10}, {0, 0, -1}, {0, 1, 0}, 20, 32, 32);
+        desc.materials = {material({0.9f, 0.5f, 0.2f}, {0.5f, 0.5f, 0.5f}, 20)};
+        desc.lights = {directional({-0.3f, -0.5f, -1}, {1, 1, 1})};
+        desc.has_lights_block = true;
+        desc.root = group({std::move(ball)});
+        return build(std::move(desc));
+    };
+    RenderOptions single = options_with(PacketIsa::None);
+    const Image plain = render_image(scene_with(sphere({0, 0, 0}, 1, 0)), single);
+    for (const float scale : {1e10f, 1e-12f}) {
+        SCOPED_TRACE(scale);
+        const Scene scaled = scene_with(transform(Mat4::scale({1 / scale, 1 / scale, 1 / scale}), sphere({0, 0, 0}, scale, 0)));
+        const Image reference = render_image(scaled, single);
+        for (PacketIsa isa : packet_isas())
+            EXPECT_TRUE(same_floats(render_image(scaled, options_with(isa)), reference)) << packet_isa_name(isa);
+        int differ = 0;
+        for (size_t i = 0; i < plain.pixels.size(); ++i) differ += max_abs(plain.pixels[i] - reference.pixels[i]) > 1.0f / 255;
+        EXPECT_LE(differ, 3) << "of " << plain.pixels.size();  // a pixel or two on the silhouette
+    }
+}
+
 // A scene whose instance BVH is one leaf is traced without that leaf's box on every path. Here
 // the box is too thin for the box test's stand-in for 1/0 (a sphere of radius 1e-45 seen along
 // the z axis from 1e18 away): found by fuzz_render_pipeline, where packets missed the sphere that

@@ -804,7 +804,14 @@ inline VM sphere_hits(const Sphere& sphere, const PacketRays& r, VM lanes, VF t_
         t_hit = splat(__builtin_inff());
         return hit;
     }
-    const VF q = splat(-0.0f) - (half_b + vcopysign(vsqrt(a * discriminant), half_b));  // -(...), exactly
+    // root_of_product (geometry/sphere.h), lane by lane: √a·√b where the product leaves float's range.
+    const VF product = a * discriminant;
+    VF root = vsqrt(product);
+    const VM ordinary = ((product < splat(__builtin_inff())) & (product > splat(0.0f))) |
+                        (discriminant == splat(0.0f)) | (a == splat(0.0f));
+    const VM unusual = andnot(hit, ordinary);
+    if (any(unusual)) root = select(unusual, vsqrt(a) * vsqrt(discriminant), root);
+    const VF q = splat(-0.0f) - (half_b + vcopysign(root, half_b));  // -(...), exactly
     hit = hit & (q != splat(0.0f));
     const VF t0 = q / a, t1 = c / q;
     const VM swap = t0 > t1;
