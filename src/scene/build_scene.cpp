@@ -19,6 +19,14 @@ Diagnostic error_at(const SourceLocation& location, std::string message) {
     return Diagnostic{Severity::Error, location, std::move(message), ""};
 }
 
+// The message for a position past kMaxCoordinate, after `where` says whose and how far ("this
+// plane lies 2e+19 from the origin"): the camera, lights, objects and planes have one limit.
+std::string past_coordinate_limit(const std::string& where) {
+    return where + string_printf(", beyond raycast's limit of %g (float arithmetic would overflow): "
+                                 "scale the scene down",
+                                 double(kMaxCoordinate));
+}
+
 // Widens a box by a relative margin, so that rounding in the object-space tests (with a
 // float inverse matrix) cannot put a hit just outside the box the BVH holds.
 Bounds3f pad(Bounds3f b) {
@@ -152,9 +160,7 @@ private:
         const float reach = max_abs(camera.center);
         if (!(reach <= kMaxCoordinate))
             fail({error_at(camera.location,
-                           string_printf("the camera is at coordinates of %g, beyond raycast's limit of %g (float "
-                                         "arithmetic would overflow): scale the scene down",
-                                         double(reach), double(kMaxCoordinate)))});
+                           past_coordinate_limit(string_printf("the camera is at coordinates of %g", double(reach))))});
         scene_.camera = make_camera(camera, width, height, options_.conventions);
         scene_.background = desc_.background;
         if (desc_.ambient)
@@ -166,10 +172,9 @@ private:
             // the limit it overflows, and the light silently lit nothing.
             const float light_reach = max_abs(l.position);
             if (l.kind == LightDesc::Kind::Point && !(light_reach <= kMaxCoordinate))
-                errors_.push_back(error_at(l.location, string_printf("this point light is at coordinates of %g, beyond "
-                                                                     "raycast's limit of %g (float arithmetic would "
-                                                                     "overflow): scale the scene down",
-                                                                     double(light_reach), double(kMaxCoordinate))));
+                errors_.push_back(error_at(
+                    l.location, past_coordinate_limit(string_printf("this point light is at coordinates of %g",
+                                                                    double(light_reach)))));
             Light light;
             light.kind = l.kind == LightDesc::Kind::Directional ? Light::Kind::Directional : Light::Kind::Point;
             light.direction = normalize_any_length(l.direction);
@@ -310,10 +315,9 @@ private:
         for (int axis = 0; axis < 3; ++axis)
             largest = std::fmax(largest, std::fmax(std::fabs(world_bounds.lower[axis]), std::fabs(world_bounds.upper[axis])));
         if (!(largest <= kMaxCoordinate))
-            errors_.push_back(error_at(object.location,
-                                       string_printf("this object reaches coordinates of %g, beyond raycast's limit of "
-                                                     "%g (float arithmetic would overflow): scale the scene down",
-                                                     double(largest), double(kMaxCoordinate))));
+            errors_.push_back(error_at(
+                object.location,
+                past_coordinate_limit(string_printf("this object reaches coordinates of %g", double(largest)))));
     }
 
     // A plane has no extent, but its points are as far from the origin as it is, and beyond
@@ -326,10 +330,8 @@ private:
         if (!(normal_length > 0)) return;  // never hit (intersect_plane divides by n·d)
         const double distance = std::fabs(double{plane.offset}) / normal_length;
         if (!(distance <= double{kMaxCoordinate}))
-            errors_.push_back(error_at(object.location,
-                                       string_printf("this plane lies %g from the origin, beyond raycast's limit of "
-                                                     "%g (float arithmetic would overflow): scale the scene down",
-                                                     distance, double(kMaxCoordinate))));
+            errors_.push_back(error_at(
+                object.location, past_coordinate_limit(string_printf("this plane lies %g from the origin", distance))));
     }
 
     uint32_t mesh_shape(int mesh_index) {
