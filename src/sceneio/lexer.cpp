@@ -1,5 +1,7 @@
 #include "sceneio/lexer.h"
 
+#include "sceneio/text_check.h"
+
 namespace raycast {
 
 namespace {
@@ -10,12 +12,9 @@ bool ends_token(char c) { return is_space(c) || c == '{' || c == '}' || c == '#'
 
 }  // namespace
 
-// The UTF-8 byte order mark some Windows editors (Notepad, VS Code's "UTF-8 with BOM") put first.
-constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
-
 Lexer::Lexer(std::string_view source, std::string file_name) : source_(source), file_name_(std::move(file_name)) {
     // Not part of the first token, nor of the first line's columns (it shows as nothing).
-    if (source_.substr(0, kByteOrderMark.size()) == kByteOrderMark) position_ = line_start_ = kByteOrderMark.size();
+    position_ = line_start_ = byte_order_mark_length(source_);
     next_ = scan();
 }
 
@@ -66,7 +65,7 @@ Token Lexer::scan() {
 
 std::string_view Lexer::line_text(int line) const {
     // Diagnostics are rare, so a scan from the start is fine.
-    size_t start = source_.substr(0, kByteOrderMark.size()) == kByteOrderMark ? kByteOrderMark.size() : 0;
+    size_t start = byte_order_mark_length(source_);
     for (int current = 1; current < line; ++current) {
         const size_t newline = source_.find('\n', start);
         if (newline == std::string_view::npos) return {};

@@ -74,12 +74,12 @@ inline const char* next_line(const char* p, const char* end) {
     return newline ? static_cast<const char*>(newline) + 1 : end;
 }
 
-// Some Windows tools start UTF-8 files with a byte order mark; it is not part of the first
-// statement. Files joined together (`copy /b a.obj+b.obj`, `cat`) carry one at the start of a line
-// inside: skipped there too, or the statement after it would be dropped as unknown and every
-// relative index after it would shift. One byte compared per line.
+// A byte order mark (byte_order_mark_length) is no part of the first statement, and files joined
+// together (`copy /b a.obj+b.obj`, `cat`) carry one at the start of a line inside: skipped there
+// too, or the statement after it would be dropped as unknown and every relative index after it
+// would shift. One byte compared per line.
 inline const char* skip_byte_order_mark(const char* p, const char* end) {
-    return p != end && *p == '\xEF' && end - p >= 3 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0 ? p + 3 : p;
+    return p + byte_order_mark_length(std::string_view(p, static_cast<size_t>(end - p)));
 }
 
 enum class Statement { Vertex, Normal, TexCoord, Face, Other };

@@ -27,6 +27,13 @@ inline bool is_suspect_line_start(unsigned char c) {
 /// when it does not (it begins a valid UTF-8 character). p < end.
 const char* non_text_problem(const char* p, const char* end);
 
+/// The length of a UTF-8 byte order mark (EF BB BF) at the start of `text`: 3, or 0 without one.
+/// Windows editors may put one first (Notepad, VS Code's "UTF-8 with BOM"); it shows as nothing
+/// and is no part of what follows. One comparison when the text starts otherwise.
+inline size_t byte_order_mark_length(std::string_view text) {
+    return !text.empty() && text[0] == '\xEF' && text.size() >= 3 && text[1] == '\xBB' && text[2] == '\xBF' ? 3 : 0;
+}
+
 /// The offset of the first byte of `text` that breaks the rule, if any.
 std::optional<size_t> find_non_text_byte(std::string_view text);
 
