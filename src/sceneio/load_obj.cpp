@@ -294,7 +294,8 @@ public:
             case Statement::TexCoord: parse_texcoord(keyword, p); break;
             case Statement::Face: parse_face(keyword, p); break;
             case Statement::Other:
-                if (!ends_statement(p, end_) && !is_known_statement(std::string_view(p, static_cast<size_t>(skip_token(p, end_) - p))))
+                if (!ends_statement(p, end_) &&
+                    !is_known_statement(std::string_view(p, static_cast<size_t>(skip_token(p, end_) - p))))
                     unknown_statement(p);
                 break;
             }
@@ -314,24 +315,25 @@ private:
         uint32_t normal = kNoNormal;
     };
 
-    // The offending line under the message, as the scene parser shows its lines: only one a
-    // terminal can show (no control bytes, at most 300 bytes). A face of 90,000 corners printed its
-    // line, 360 KB, with every error in it.
-    void show_line(Diagnostic& diagnostic, const char* line_end) const {
+    // A diagnostic at `at` on the current line, with the line under it as the scene parser shows
+    // its lines: only one a terminal can show (no control bytes, at most 300 bytes). A face of
+    // 90,000 corners printed its line, 360 KB, with every error in it.
+    Diagnostic diagnostic_at(const char* at, Severity severity, std::string message) const {
+        const char* line_end = next_line(line_start_, end_);
+        while (line_end != line_start_ && (line_end[-1] == '\n' || line_end[-1] == '\r')) --line_end;
+        Diagnostic diagnostic;
+        diagnostic.severity = severity;
+        const uint64_t column = static_cast<uint64_t>(at - line_start_) + 1;
+        diagnostic.location = {file_name_, saturate_to_int(line_), saturate_to_int(column)};
+        diagnostic.message = std::move(message);
         const std::string_view line(line_start_, static_cast<size_t>(line_end - line_start_));
         if (is_displayable_source_line(line)) diagnostic.source_line = std::string(line);
+        return diagnostic;
     }
 
     // Out of line and cold: errors are rare, and the hot loops stay small without them.
     [[gnu::noinline, gnu::cold]] void error(const char* at, std::string message) {
-        const char* line_end = next_line(line_start_, end_);
-        while (line_end != line_start_ && (line_end[-1] == '\n' || line_end[-1] == '\r')) --line_end;
-        Diagnostic diagnostic;
-        const uint64_t column = static_cast<uint64_t>(at - line_start_) + 1;
-        diagnostic.location = {file_name_, saturate_to_int(line_), saturate_to_int(column)};
-        diagnostic.message = std::move(message);
-        show_line(diagnostic, line_end);
-        chunk_.errors.push_back(std::move(diagnostic));
+        chunk_.errors.push_back(diagnostic_at(at, Severity::Error, std::move(message)));
     }
 
     // A warning for a statement no OBJ reader knows; the first kMaxReportedErrors of a chunk are
@@ -339,17 +341,11 @@ private:
     [[gnu::noinline, gnu::cold]] void unknown_statement(const char* keyword) {
         ++chunk_.unknown_statements;
         if (chunk_.warnings.size() >= static_cast<size_t>(kMaxReportedErrors)) return;
-        const char* line_end = next_line(line_start_, end_);
-        while (line_end != line_start_ && (line_end[-1] == '\n' || line_end[-1] == '\r')) --line_end;
-        Diagnostic diagnostic;
-        diagnostic.severity = Severity::Warning;
-        diagnostic.location = {file_name_, saturate_to_int(line_),
-                               saturate_to_int(static_cast<uint64_t>(keyword - line_start_) + 1)};
-        diagnostic.message = "unknown statement " + quote_token(keyword, skip_token(keyword, end_)) +
-                             ": the line is skipped (raycast reads v, vn, vt and f, and passes over the other OBJ "
-                             "statements: o, g, s, usemtl, ...)";
-        show_line(diagnostic, line_end);
-        chunk_.warnings.push_back(std::move(diagnostic));
+        chunk_.warnings.push_back(diagnostic_at(
+            keyword, Severity::Warning,
+            "unknown statement " + quote_token(keyword, skip_token(keyword, end_)) +
+                ": the line is skipped (raycast reads v, vn, vt and f, and passes over the other OBJ statements: o, "
+                "g, s, usemtl, ...)"));
     }
 
     // Reads the numbers up to the end of the statement, keeps the first three in `values` and
