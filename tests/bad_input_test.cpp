@@ -165,6 +165,13 @@ std::string scene_with_mesh(const std::string& obj_file) {
     return text + "    TriangleMesh {\n        obj_file " + obj_file + "\n    }\n}\n";
 }
 
+// Renders scene_with_mesh(obj_name) into dir/out.ppm, the OBJ file holding `obj_text`.
+RunResult render_with_mesh(const std::string& dir, const std::string& obj_name, const std::string& obj_text) {
+    write_file(dir + "/" + obj_name, obj_text);
+    write_file(dir + "/scene.txt", scene_with_mesh(obj_name));
+    return run_guarded("scene.txt out.ppm", dir);
+}
+
 TEST(BadInputTest, AMeshFileThatIsNotTextIsRefusedAtItsFirstBadByte) {
     using namespace std::string_literals;  // keeps the NUL bytes
     struct BinaryMesh {
@@ -189,9 +196,7 @@ TEST(BadInputTest, AMeshFileThatIsNotTextIsRefusedAtItsFirstBadByte) {
     for (const BinaryMesh& mesh : meshes) {
         SCOPED_TRACE(mesh.name);
         const std::string dir = fresh_dir(mesh.name);
-        write_file(dir + "/" + mesh.name, mesh.bytes);
-        write_file(dir + "/scene.txt", scene_with_mesh(mesh.name));
-        const RunResult run = run_guarded("scene.txt out.ppm", dir);
+        const RunResult run = render_with_mesh(dir, mesh.name, mesh.bytes);
         EXPECT_EQ(run.exit_code, 1);
         EXPECT_EQ(run.output, std::string(mesh.error) + "\nscene.txt:25:18: note: the mesh was named here\n" +
                                   "          obj_file " + mesh.name + "\n                   ^\n");
@@ -203,9 +208,8 @@ TEST(BadInputTest, AMeshFileThatIsNotTextIsRefusedAtItsFirstBadByte) {
 // file, and the rest renders (LoadObj.UnknownStatementsAreSkippedWithAWarning has the rules).
 TEST(BadInputTest, AnUnknownObjStatementIsWarnedAboutInTheObjFile) {
     const std::string dir = fresh_dir("unknown_statement");
-    write_file(dir + "/typo.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf1 3 4\n");
-    write_file(dir + "/scene.txt", scene_with_mesh("typo.obj"));
-    const RunResult run = run_guarded("scene.txt out.ppm", dir);
+    const RunResult run =
+        render_with_mesh(dir, "typo.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf1 3 4\n");
     EXPECT_EQ(run.exit_code, 0);
     EXPECT_EQ(run.output,
               "typo.obj:6:1: warning: unknown statement 'f1': the line is skipped (raycast reads v, vn, vt and f, "
@@ -245,9 +249,7 @@ TEST(BadInputTest, AMeshWithNoFacesIsWarnedAboutAtTheTriangleMesh) {
     for (const char* obj : {"v 0 0 0\nv 1 0 0\nv 0 1 0\n", "# nothing here\n"}) {
         SCOPED_TRACE(obj);
         const std::string dir = fresh_dir("no_faces");
-        write_file(dir + "/points.obj", obj);
-        write_file(dir + "/scene.txt", scene_with_mesh("points.obj"));
-        const RunResult run = run_guarded("scene.txt out.ppm", dir);
+        const RunResult run = render_with_mesh(dir, "points.obj", obj);
         EXPECT_EQ(run.exit_code, 0);
         EXPECT_EQ(run.output,
                   "scene.txt:24:5: warning: the OBJ file 'points.obj' has no faces ('f' lines): this mesh draws nothing\n"

@@ -83,6 +83,20 @@ bool renders_as_reference(const Scene& scene, RenderOptions options, const Image
     return true;
 }
 
+// The random scene loaded and built as raycast does, into `scene`. The generator writes only valid
+// scenes, so a refusal is a failure, reported with how to reproduce it.
+bool build_random_scene(uint64_t seed, const RandomScene& random, const RandomRender& settings, Scene& scene) {
+    SceneLoadOptions load;
+    load.in_memory_meshes = &random.meshes;
+    try {
+        scene = build_scene(load_scene_text(random.text, "random.txt", load), settings.build);
+        return true;
+    } catch (const InputError& error) {
+        ADD_FAILURE() << "a generated scene was refused:\n" << error.what() << reproduction(seed, random, settings);
+        return false;
+    }
+}
+
 // Renders one random scene every way and compares; returns false at the first difference.
 bool check_seed(uint64_t seed) {
     Choices choices(seed);
@@ -91,15 +105,8 @@ bool check_seed(uint64_t seed) {
         random_render(choices, kWidth, kHeight,
                       {RenderMode::Shaded, RenderMode::Normals, RenderMode::Depth, RenderMode::Material,
                        RenderMode::AmbientOcclusion});
-    SceneLoadOptions load;
-    load.in_memory_meshes = &random.meshes;
     Scene scene;
-    try {
-        scene = build_scene(load_scene_text(random.text, "random.txt", load), settings.build);
-    } catch (const InputError& error) {
-        ADD_FAILURE() << "a generated scene was refused:\n" << error.what() << reproduction(seed, random, settings);
-        return false;
-    }
+    if (!build_random_scene(seed, random, settings, scene)) return false;
     apply_lens(settings, scene);
     const ReferenceScene reference(scene);
     const Image expected = reference_render(reference, settings.render);
@@ -156,13 +163,8 @@ bool check_closed_mesh_seed(uint64_t seed, int& failures) {
     settings.render.shadows = true;
     settings.render.transparent_shadows = false;
     settings.lens_radius = 0;  // no lens is applied here (a thin lens's rays would skip nothing): say so
-    SceneLoadOptions load;
-    load.in_memory_meshes = &random.meshes;
     Scene scene;
-    try {
-        scene = build_scene(load_scene_text(random.text, "random.txt", load), settings.build);
-    } catch (const InputError& error) {
-        ADD_FAILURE() << "a generated scene was refused:\n" << error.what() << reproduction(seed, random, settings);
+    if (!build_random_scene(seed, random, settings, scene)) {
         ++failures;
         return false;
     }
