@@ -131,6 +131,11 @@ TEST(CliTest, UsageErrorsExitTwoWithAMessageAndAHint) {
         {"--weight 1.5 s.txt o.ppm", "--weight must be from 0 to 1, got 1.5"},
         {"--weight -0.1 s.txt o.ppm", "--weight must be from 0 to 1, got -0.1"},
         {"--weight nan s.txt o.ppm", "--weight needs a number, got 'nan'"},
+        {"-jx s.txt o.ppm", "-j needs a whole number, got 'x'"},
+        {"--threads= s.txt o.ppm", "--threads needs a whole number, got ''"},
+        {"--stats=1 s.txt o.ppm", "--stats takes no value, got '1'"},
+        {"s.txt o.ppm --quiet=yes", "--quiet takes no value, got 'yes'"},
+        {"--bogus=3 s.txt o.ppm", "unknown option '--bogus'"},
         {"-input s.txt -size 8 8 -output o.ppm -weight 2", "-weight must be from 0 to 1, got 2"},
     };
     for (const auto& [arguments, message] : cases) {
@@ -388,6 +393,28 @@ TEST(CliTest, OneThreadAndTwoThreadsWriteTheSameImage) {
     for (size_t i = 0; i + 2 < image.rgb.size(); i += 3)
         colours.insert({image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]});
     EXPECT_GT(colours.size(), 4u);
+}
+
+// GNU tools take "-j4" and "--threads=4" as "-j 4" and "--threads 4"; so does raycast, for every
+// option with a value, including the compare tool's.
+TEST(CliTest, AttachedValuesReadAsSeparateOnes) {
+    const std::string dir = scene_dir("attached");
+    ASSERT_EQ(run_raycast("s.txt apart.ppm -j 1 --size 16x12 --mode normals -q", dir).exit_code, 0);
+    const RunResult attached = run_raycast("s.txt attached.ppm -j1 --size=16x12 --mode=normals -q", dir);
+    ASSERT_EQ(attached.exit_code, 0) << attached.output;
+    ASSERT_EQ(run_raycast("s.txt shaded.ppm --threads=2 --size=16x12 -q", dir).exit_code, 0);
+    const Ppm apart = parse_ppm(read_file(dir + "/apart.ppm"));
+    ASSERT_TRUE(apart.ok);
+    EXPECT_EQ(apart.width, 16);
+    EXPECT_EQ(apart.height, 12);
+    EXPECT_EQ(read_file(dir + "/attached.ppm"), read_file(dir + "/apart.ppm"));
+    // The normals image differs from the shaded one, so --mode=normals was not dropped.
+    EXPECT_NE(read_file(dir + "/shaded.ppm"), read_file(dir + "/apart.ppm"));
+    const RunResult compare = run_raycast("compare apart.ppm shaded.ppm --max-diff=255 --diff=d.ppm", dir);
+    EXPECT_EQ(compare.exit_code, 0) << compare.output;
+    EXPECT_EQ(lines_of(compare.output).back(),
+              "within tolerance: 0 of 192 pixels (0%) differ by more than 255 levels; none may");
+    EXPECT_TRUE(parse_ppm(read_file(dir + "/d.ppm")).ok);
 }
 
 // ---- compare ---------------------------------------------------------------------------------

@@ -26,7 +26,8 @@ OUTPUT's extension: .bmp, .ppm, .tga, or .png (when built with libpng).
 Options:
   -h, --help                 show this help and exit
       --version              show the version and exit
-  -j, --threads N            render on N threads (default: all hardware threads)
+  -j, --threads N            render on N threads (default: all hardware threads); -j4 and
+                             --threads=4 work too, as does --name=VALUE for every option below
       --size WxH             image size, replacing the camera's width and height
       --stats                print one line of timings and counts: load, build and render
                              milliseconds, rays, Mrays/s, triangles, threads
@@ -171,21 +172,50 @@ void parse_size(const std::string& text, const std::string& what, CliOptions& op
     check_pixel_count(what, options);
 }
 
-// Walks argv with the current position, for options that take values.
+// Walks argv with the current position, for options that take values. A value may also be
+// attached, as GNU tools take it: "--threads=4" and "-j4" read as "--threads 4" and "-j 4". An
+// attached value that its option does not take ("--stats=1") is refused at the next argument.
 class Arguments {
 public:
     Arguments(int argc, const char* const* argv, int first) : argc_(argc), argv_(argv), index_(first) {}
-    bool done() const { return index_ >= argc_; }
-    std::string next() { return argv_[index_++]; }
-    std::string value_for(const std::string& option) {
-        if (done()) usage_error(option + " needs a value");
-        return next();
+    bool done() const {
+        check_attached_value_taken();
+        return index_ >= argc_;
+    }
+    std::string next() {
+        check_attached_value_taken();
+        std::string arg = argv_[index_++];
+        const size_t equals = arg.find('=');
+        if (arg.rfind("--", 0) == 0 && equals != std::string::npos && equals > 2) {
+            attached_value_ = arg.substr(equals + 1);
+            arg.resize(equals);
+            attached_to_ = arg;
+        } else if (arg.size() > 2 && arg.rfind("-j", 0) == 0) {
+            attached_value_ = arg.substr(2);
+            arg.resize(2);
+            attached_to_ = arg;
+        }
+        return arg;
+    }
+    std::string value_for(const std::string& option, const std::string& missing_message = "") {
+        if (!attached_to_.empty()) {
+            attached_to_.clear();
+            return attached_value_;
+        }
+        if (index_ >= argc_) usage_error(missing_message.empty() ? option + " needs a value" : missing_message);
+        return argv_[index_++];
     }
 
 private:
+    void check_attached_value_taken() const {
+        if (!attached_to_.empty()) usage_error(attached_to_ + " takes no value, got '" + attached_value_ + "'");
+    }
+
     int argc_;
     const char* const* argv_;
     int index_;
+    std::string attached_to_;  ///< the option whose attached value is not yet read; empty: none
+    std::string attached_value_;
 };
 
 // The switches that adjust a course's conventions, kept apart until the command line is read, so
@@ -284,8 +314,9 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
     if (argc >= 2 && (std::strcmp(argv[1], "compare") == 0 || std::strcmp(argv[1], "merge") == 0)) {
         const bool compare = std::strcmp(argv[1], "compare") == 0;
         options.command = compare ? CliOptions::Command::Compare : CliOptions::Command::Merge;
-        for (int i = 2; i < argc; ++i) {
-            const std::string arg = argv[i];
+        Arguments args(argc, argv, 2);
+        while (!args.done()) {
+            const std::string arg = args.next();
             if (arg == "-h" || arg == "--help") {
                 options.command = CliOptions::Command::Help;
                 return options;
@@ -293,22 +324,19 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             if (arg == "-q" || arg == "--quiet") {
                 options.quiet = true;
             } else if (compare && arg == "--diff") {
-                if (++i >= argc) usage_error("--diff needs a file name");
-                options.diff_path = argv[i];
+                options.diff_path = args.value_for(arg, "--diff needs a file name");
             } else if (compare && arg == "--mask") {
-                if (++i >= argc) usage_error("--mask needs a file name");
-                options.mask_path = argv[i];
+                options.mask_path = args.value_for(arg, "--mask needs a file name");
             } else if (compare && arg == "--max-diff") {
-                if (++i >= argc) usage_error("--max-diff needs a number of levels, 0 to 255");
-                options.tolerance.max_diff = parse_count(argv[i], "--max-diff", 255);
+                options.tolerance.max_diff =
+                    parse_count(args.value_for(arg, "--max-diff needs a number of levels, 0 to 255"), "--max-diff", 255);
                 options.grade = true;
             } else if (compare && arg == "--max-fraction") {
-                if (++i >= argc) usage_error("--max-fraction needs a fraction of the pixels, 0 to 1");
-                options.tolerance.max_fraction = parse_fraction(argv[i], "--max-fraction");
+                options.tolerance.max_fraction = parse_fraction(
+                    args.value_for(arg, "--max-fraction needs a fraction of the pixels, 0 to 1"), "--max-fraction");
                 options.grade = true;
             } else if (!compare && (arg == "-o" || arg == "--output")) {
-                if (++i >= argc) usage_error(arg + " needs a file name");
-                options.merge_output = argv[i];
+                options.merge_output = args.value_for(arg, arg + " needs a file name");
             } else if (arg.size() > 1 && arg[0] == '-') {
                 usage_error("unknown option '" + arg + "' for " + argv[1]);
             } else {
