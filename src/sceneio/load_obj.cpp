@@ -568,7 +568,9 @@ void retriangulate_polygons(const std::vector<Chunk>& chunks, TriangleMesh& mesh
 
 }  // namespace
 
-TriangleMesh parse_obj(std::string_view text, const std::string& file_name, const ObjLoadOptions& options) {
+TriangleMesh parse_obj(std::string_view file_text, const std::string& file_name, const ObjLoadOptions& options) {
+    std::string converted;
+    const std::string_view text = as_unix_text(file_text, converted);
     const int threads = std::max(1, options.threads);
     std::vector<Chunk> chunks = split_into_chunks(text, threads, options.chunk_bytes);
     const char* text_begin = text.data();

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -303,6 +304,27 @@ TEST(LoadObj, SkipsAByteOrderMarkAtTheStartOfAnyLine) {
         EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5})) << chunk_bytes;
     }
     EXPECT_EQ(only_error("v 0 0 0\n\xEF\xBB\xBFv 1 2 x\n"), "m.obj:2:7: 'x' is not a number");
+}
+
+// Classic Mac OS ended lines with CR alone, and DOS editors put a Ctrl-Z last: both are read as
+// the same mesh as LF text, for any chunking, with lines counted as an editor counts them.
+TEST(LoadObj, ReadsClassicMacLineBreaksAndADosEndMark) {
+    const std::string lf = "# quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    std::string mac = lf;
+    std::replace(mac.begin(), mac.end(), '\n', '\r');
+    const TriangleMesh expected = parse(lf);
+    ASSERT_EQ(expected.indices.size(), 6u);
+    for (const std::string& text : {mac, lf + "\x1a", mac + "\x1a"}) {
+        for (size_t chunk_bytes : {size_t{0}, size_t{1}, size_t{7}}) {
+            ObjLoadOptions options;
+            options.threads = 2;
+            options.chunk_bytes = chunk_bytes;
+            const TriangleMesh mesh = parse_obj(text, "m.obj", options);
+            EXPECT_EQ(mesh.positions, expected.positions) << chunk_bytes;
+            EXPECT_EQ(mesh.indices, expected.indices) << chunk_bytes;
+        }
+    }
+    EXPECT_EQ(only_error("v 0 0 0\rv 1 2 x\r"), "m.obj:2:7: 'x' is not a number");
 }
 
 // ---- errors: every message, at file:line:col --------------------------------------------------

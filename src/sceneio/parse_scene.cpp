@@ -877,7 +877,9 @@ private:
 
 }  // namespace
 
-SceneDesc parse_scene(std::string_view text, const std::string& file_name) {
+SceneDesc parse_scene(std::string_view file_text, const std::string& file_name) {
+    std::string converted;
+    const std::string_view text = as_unix_text(file_text, converted);
     // A binary file would make only a cascade of unknown keywords: one error says what it is.
     if (const std::optional<size_t> bad = find_non_text_byte(text))
         throw InputError({non_text_diagnostic(text, *bad, file_name)});

@@ -97,6 +97,29 @@ TEST(ParseSceneTest, AUtf8ByteOrderMarkIsSkipped) {
     }
 }
 
+// Classic Mac OS ended lines with CR alone: read by LF, a file starting with a comment was all
+// comment ("the scene has no camera"). Lines and columns are an editor's; a DOS end mark (Ctrl-Z)
+// last is no part of the scene.
+TEST(ParseSceneTest, ClassicMacLineBreaksAndADosEndMarkAreRead) {
+    std::string mac = "# a comment first\n" + scene_with_group(1, kUnitSphere);
+    std::replace(mac.begin(), mac.end(), '\n', '\r');
+    const SceneDesc desc = parse(mac);
+    ASSERT_TRUE(desc.camera.has_value());
+    EXPECT_EQ(desc.camera->width, 20);
+    EXPECT_EQ(desc.root->children.size(), 1u);
+    EXPECT_EQ(parse(scene_with_group(1, kUnitSphere) + "\x1a").root->children.size(), 1u);
+    try {
+        parse("# first\r\rPerspectiveCamera { angle x }\r");
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& error) {
+        ASSERT_FALSE(error.diagnostics().empty());
+        const Diagnostic& d = error.diagnostics()[0];
+        EXPECT_EQ(d.location.line, 3);
+        EXPECT_EQ(d.location.column, 27);
+        EXPECT_EQ(d.source_line, "PerspectiveCamera { angle x }");
+    }
+}
+
 TEST(ParseSceneTest, ReadsThePerspectiveCameraAsWritten) {
     const SceneDesc desc = parse(
         "PerspectiveCamera { center 13 11 30 direction -.16 -.12 -.5 up 0 1 0 angle 30 width 200 height 100 }\n"

@@ -45,6 +45,19 @@ const char* non_text_problem(const char* p, const char* end) {
     return "at the start of a line does not begin a UTF-8 character";
 }
 
+std::string_view as_unix_text(std::string_view text, std::string& storage) {
+    if (!text.empty() && text.back() == '\x1a') text.remove_suffix(1);
+    const size_t first_break = text.find_first_of("\r\n");
+    const bool classic_mac =
+        first_break != std::string_view::npos && text[first_break] == '\r' &&
+        (first_break + 1 == text.size() || text[first_break + 1] != '\n');
+    if (!classic_mac) return text;
+    storage.assign(text);
+    for (size_t i = first_break; i < storage.size(); ++i)
+        if (storage[i] == '\r' && (i + 1 == storage.size() || storage[i + 1] != '\n')) storage[i] = '\n';
+    return storage;
+}
+
 std::optional<size_t> find_non_text_byte(std::string_view text) {
     const char* begin = text.data();
     const char* end = begin + text.size();

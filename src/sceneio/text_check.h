@@ -34,6 +34,18 @@ inline size_t byte_order_mark_length(std::string_view text) {
     return !text.empty() && text[0] == '\xEF' && text.size() >= 3 && text[1] == '\xBB' && text[2] == '\xBF' ? 3 : 0;
 }
 
+/// `text` as the parsers read it, with two ways older editors end text taken as Unix's:
+/// - a DOS end-of-file mark (Ctrl-Z, 0x1A) as the very last byte, which DOS editors appended, is
+///   no part of the text;
+/// - a file whose first line break is a CR alone (classic Mac OS, before OS X) has each CR that no
+///   LF follows turned into an LF. Read by LF alone it would be one long line: a scene starting
+///   with a comment would be all comment. A file whose first line break is CRLF or LF is left as
+///   it is (its CRs are blanks).
+/// One byte stands for one, so offsets and columns are those of the file. `storage` holds the
+/// converted copy when one is needed; otherwise the answer is a view of `text`. One scan to the
+/// first line break for other text.
+std::string_view as_unix_text(std::string_view text, std::string& storage);
+
 /// The offset of the first byte of `text` that breaks the rule, if any.
 std::optional<size_t> find_non_text_byte(std::string_view text);
 

@@ -72,5 +72,45 @@ TEST(TextCheck, TheFirstBadByteInTheFileIsReported) {
     EXPECT_EQ(first_bad("a\n\x01\n\0"s).substr(0, 2), "2 ");
 }
 
+// Old editors' line ends and end marks, turned into what the parsers read (as_unix_text).
+std::string unix_text(const std::string& text) {
+    std::string storage;
+    return std::string(as_unix_text(text, storage));
+}
+
+TEST(TextCheck, ClassicMacLineBreaksBecomeLineFeeds) {
+    EXPECT_EQ(unix_text("a 1\rb 2\r"), "a 1\nb 2\n");
+    EXPECT_EQ(unix_text("\r\ra"), "\n\na");
+    EXPECT_EQ(unix_text("a\r"), "a\n");
+    // A file whose first line break is CR alone: a CRLF later keeps its CR, as a blank.
+    EXPECT_EQ(unix_text("a\rb\r\nc"), "a\nb\r\nc");
+    // The first line break decides: CRLF and LF files keep every CR, even a lone one.
+    EXPECT_EQ(unix_text("a\r\nb\rc\r\n"), "a\r\nb\rc\r\n");
+    EXPECT_EQ(unix_text("a\nb\rc\n"), "a\nb\rc\n");
+    EXPECT_EQ(unix_text("no break"), "no break");
+    EXPECT_EQ(unix_text(""), "");
+}
+
+TEST(TextCheck, ADosEndMarkLastIsNoPartOfTheText) {
+    EXPECT_EQ(unix_text("a 1\r\n\x1a"), "a 1\r\n");
+    EXPECT_EQ(unix_text("a 1\x1a"), "a 1");
+    EXPECT_EQ(unix_text("a\rb\x1a"), "a\nb");
+    EXPECT_EQ(unix_text("\x1a"), "");
+    // Only as the very last byte: elsewhere it is a control byte, and not text.
+    EXPECT_EQ(unix_text("a\x1a\n"), "a\x1a\n");
+    EXPECT_EQ(unix_text("a\x1a\x1a"), "a\x1a");
+    EXPECT_EQ(first_bad("a\n\x1a\n"), "2 f.txt:2:1: error: this is not a text file: byte 0x1a is a control character at the start of a line\n");
+}
+
+// The view is of the text itself unless a copy was needed.
+TEST(TextCheck, OnlyClassicMacTextIsCopied) {
+    const std::string lf = "a\nb\r\n";
+    std::string storage;
+    EXPECT_EQ(as_unix_text(lf, storage).data(), lf.data());
+    EXPECT_TRUE(storage.empty());
+    const std::string mac = "a\rb\r";
+    EXPECT_EQ(as_unix_text(mac, storage).data(), storage.data());
+}
+
 }  // namespace
 }  // namespace raycast
