@@ -336,6 +336,37 @@ private:
         chunk_.errors.push_back(diagnostic_at(at, Severity::Error, std::move(message)));
     }
 
+    // The OBJ specification lets a '\\' at the end of a line continue the statement on the next
+    // one; no modelling tool writes it, and the loader does not read it. Said where it shows: a
+    // token '\\' last on its line.
+    [[gnu::noinline, gnu::cold]] std::string continuation_hint(const char* token, const char* token_end) const {
+        if (token_end - token != 1 || *token != '\\' || !ends_statement(skip_blanks(token_end, end_), end_)) return "";
+        return ": a '\\' at the end of a line, which OBJ reads as \"the statement goes on below\", is not read "
+               "here: join the two lines";
+    }
+
+    // Old Microsoft C libraries printed NaN and infinity as "1.#IND", "-1.#QNAN", "1.#INF": the
+    // '#' would start a comment, and the statement end at "1." with the value read as 1 or the
+    // coordinates after it missing. Checked where a statement's numbers end at a '#' glued to the
+    // last of them; true when it was such a number, reported.
+    [[gnu::noinline, gnu::cold]] bool is_microsoft_non_number(const char* comment) {
+        static constexpr std::string_view kSuffixes[] = {"IND", "INF", "QNAN", "SNAN"};  // then digits: "1.#IND00"
+        const char* after = comment + 1;
+        const char* token_end = skip_token(after, end_);
+        const std::string_view rest(after, static_cast<size_t>(token_end - after));
+        const bool microsoft = std::any_of(std::begin(kSuffixes), std::end(kSuffixes), [&](std::string_view suffix) {
+            return rest.substr(0, suffix.size()) == suffix &&
+                   rest.find_first_not_of("0123456789", suffix.size()) == std::string_view::npos;
+        });
+        if (!microsoft) return false;
+        const char* token = comment;
+        while (token != line_start_ && !is_blank(token[-1])) --token;
+        error(token, quote_token(token, token_end) +
+                         " is not a number: old Microsoft C libraries wrote NaN and infinity as '1.#IND' and '1.#INF' "
+                         "(the '#' is not a comment here), and no mesh may hold them");
+        return true;
+    }
+
     // A warning for a statement no OBJ reader knows; the first kMaxReportedErrors of a chunk are
     // kept, the rest counted.
     [[gnu::noinline, gnu::cold]] void unknown_statement(const char* keyword) {
@@ -354,12 +385,19 @@ private:
         int count = 0;
         for (;;) {
             p = skip_blanks(p, end_);
-            if (ends_statement(p, end_)) return count;
+            if (ends_statement(p, end_)) {
+                if (p != end_ && *p == '#' && count > 0 && !is_blank(p[-1]) && is_microsoft_non_number(p)) {
+                    p = skip_token(p + 1, end_);
+                    if (count < 3) ++count;
+                    continue;
+                }
+                return count;
+            }
             float value = 0;
             const NumberResult result = parse_float(p, end_, value);
             if (result.status == NumberStatus::Invalid || !ends_token(result.end, end_)) {
                 const char* token_end = skip_token(p, end_);
-                error(p, quote_token(p, token_end) + " is not a number");
+                error(p, quote_token(p, token_end) + " is not a number" + continuation_hint(p, token_end));
                 p = token_end;
             } else {
                 if (result.status == NumberStatus::OutOfRange)
@@ -473,7 +511,7 @@ private:
         }
         if (!well_formed || !ends_token(p, end_)) {
             const char* token_end = skip_token(token, end_);
-            error(token, "malformed face vertex " + quote_token(token, token_end));
+            error(token, "malformed face vertex " + quote_token(token, token_end) + continuation_hint(token, token_end));
             p = token_end;
             return Corner{};
         }

@@ -382,6 +382,34 @@ TEST(LoadObjErrors, TooFewCoordinates) {
     EXPECT_EQ(only_error("\tvt\n"), "m.obj:1:2: a texture coordinate needs at least 1 number");
 }
 
+// "1.#IND" is how old Microsoft C libraries printed a NaN. The '#' would start a comment and the
+// number be read as 1 (or the coordinates after it go missing): it is refused as not a number.
+TEST(LoadObjErrors, MicrosoftNanAndInfinityAreNotNumbers) {
+    const std::string why = " is not a number: old Microsoft C libraries wrote NaN and infinity as '1.#IND' and "
+                            "'1.#INF' (the '#' is not a comment here), and no mesh may hold them";
+    EXPECT_EQ(only_error("vn -1.#IND 0 1\n"), "m.obj:1:4: '-1.#IND'" + why);
+    EXPECT_EQ(only_error("v 0 0 1.#INF\n"), "m.obj:1:7: '1.#INF'" + why);
+    EXPECT_EQ(only_error("v 0 0 0\nv 0 -1.#QNAN 0\n"), "m.obj:2:5: '-1.#QNAN'" + why);
+    EXPECT_EQ(only_error("vt 1.#SNAN\n"), "m.obj:1:4: '1.#SNAN'" + why);
+    EXPECT_EQ(only_error("v 0 0 1.#IND00 \r\n"), "m.obj:1:7: '1.#IND00'" + why);
+    // Other comments glued to a number are comments.
+    EXPECT_EQ(parse("v 1 2 3#c\nv 1 2 4#INDEX\nv 1 2 5 #IND\n").positions,
+              (std::vector<Vec3f>{Vec3f(1, 2, 3), Vec3f(1, 2, 4), Vec3f(1, 2, 5)}));
+}
+
+// The OBJ specification's line continuation, a '\\' last on a line, is not read: the error says so.
+TEST(LoadObjErrors, ALineContinuationIsNamed) {
+    const std::string why = ": a '\\' at the end of a line, which OBJ reads as \"the statement goes on below\", is not "
+                            "read here: join the two lines";
+    EXPECT_EQ(only_error("v 1 2 \\\n"), "m.obj:1:7: '\\' is not a number" + why);
+    EXPECT_EQ(only_error("v 1 2 \\ \r\n"), "m.obj:1:7: '\\' is not a number" + why);
+    const std::vector<Diagnostic> errors = errors_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \\\n3\n");
+    ASSERT_FALSE(errors.empty());
+    EXPECT_EQ(located(errors[0]), "m.obj:4:7: malformed face vertex '\\'" + why);
+    // A '\\' inside a line is only not a number.
+    EXPECT_EQ(only_error("v 1 \\ 2 3\n"), "m.obj:1:5: '\\' is not a number");
+}
+
 TEST(LoadObjErrors, FaceWithTooFewVertices) {
     EXPECT_EQ(only_error("v 0 0 0\nv 1 0 0\nf 1 2\n"), "m.obj:3:1: a face needs at least 3 vertices, this one has 2");
     EXPECT_EQ(only_error(" f  # empty\n"), "m.obj:1:2: a face needs at least 3 vertices, this one has 0");
