@@ -549,6 +549,14 @@ TEST(BadInputTest, ErrorsFoundWhileBuildingTheSceneShowTheLineAndCaret) {
          "limit of 1e+18 (float arithmetic would overflow): scale the scene down\n"
          "      Triangle {\n"
          "      ^\n"},
+        // An object under a Transform is tested in its own space: past the limit there it vanished,
+        // though the Transform brought it to a radius of 1 in the world.
+        {"sphere_scaled_down_from_huge.txt",
+         "tests/bad_inputs/sphere_scaled_down_from_huge.txt:19:9: error: this object reaches coordinates of 1e+20 in "
+         "its own space (before its Transform), beyond raycast's limit of 1e+18 (float arithmetic would overflow): "
+         "give it smaller coordinates and its Transform a larger scale\n"
+         "          Sphere {\n"
+         "          ^\n"},
         // And a point light: its distance to a hit, squared, overflowed, and it lit nothing.
         {"point_light_huge.txt",
          "tests/bad_inputs/point_light_huge.txt:11:5: error: this point light is at coordinates of 2e+19, beyond "

@@ -21,10 +21,9 @@ Diagnostic error_at(const SourceLocation& location, std::string message) {
 
 // The message for a position past kMaxCoordinate, after `where` says whose and how far ("this
 // plane lies 2e+19 from the origin"): the camera, lights, objects and planes have one limit.
-std::string past_coordinate_limit(const std::string& where) {
-    return where + string_printf(", beyond raycast's limit of %g (float arithmetic would overflow): "
-                                 "scale the scene down",
-                                 double(kMaxCoordinate));
+std::string past_coordinate_limit(const std::string& where, const char* remedy = "scale the scene down") {
+    return where + string_printf(", beyond raycast's limit of %g (float arithmetic would overflow): %s",
+                                 double(kMaxCoordinate), remedy);
 }
 
 // Widens a box by a relative margin, so that rounding in the object-space tests (with a
@@ -247,7 +246,7 @@ private:
                 bounds_.push_back({pad(moved ? transformed_sphere_bounds(world_from_object, object.sphere)
                                              : sphere_bounds(object.sphere)),
                                    id});
-                check_extent(object, bounds_.back().bounds);
+                check_extent(object, bounds_.back().bounds, moved ? sphere_bounds(object.sphere) : Bounds3f{});
                 break;
             case ObjectDesc::Kind::Plane: {
                 // n·(M⁻¹p) = d for object-space points is the world plane (M⁻ᵀn)·p = d − n·(M⁻¹'s
@@ -273,11 +272,14 @@ private:
                 instance.shape = static_cast<uint32_t>(scene_.triangles.size());
                 const TriangleShape tri{object.vertices[0], object.vertices[1], object.vertices[2]};
                 scene_.triangles.push_back(tri);
-                Bounds3f b;
-                for (const Vec3f& p : object.vertices) b.grow(moved ? transform_point(world_from_object, p) : p);
+                Bounds3f b, own;
+                for (const Vec3f& p : object.vertices) {
+                    b.grow(moved ? transform_point(world_from_object, p) : p);
+                    if (moved) own.grow(p);
+                }
                 // Out of the BVH, a triangle with no area is never tested, so never hit (triangle.h).
                 if (!is_degenerate_triangle(tri.p0, tri.p1, tri.p2)) bounds_.push_back({pad(b), id});
-                check_extent(object, b);
+                check_extent(object, b, own);
                 break;
             }
             case ObjectDesc::Kind::RevSurface: {
@@ -288,7 +290,8 @@ private:
                 if (surface.nodes.empty()) return;  // every piece a point or on the axis: never hit
                 // Tight even when rotated: the boxes of the cylinders around the monotone pieces.
                 bounds_.push_back({pad(rev_surface_bounds(surface, world_from_object)), id});
-                check_extent(object, bounds_.back().bounds);
+                check_extent(object, bounds_.back().bounds,
+                             moved ? rev_surface_bounds(surface, Mat4::identity()) : Bounds3f{});
                 break;
             }
             case ObjectDesc::Kind::TriangleMesh: {
@@ -297,7 +300,7 @@ private:
                 const Bounds3f local = scene_.meshes[instance.shape].bounds;
                 if (!local.is_empty()) {
                     bounds_.push_back({pad(moved ? transform_bounds(world_from_object, local) : local), id});
-                    check_extent(object, bounds_.back().bounds);
+                    check_extent(object, bounds_.back().bounds, moved ? local : Bounds3f{});
                 }
                 break;
             }
@@ -308,16 +311,31 @@ private:
     }
 
     // Past kMaxCoordinate the float products in the intersection tests overflow and objects would
-    // silently vanish: refuse them where they are written.
-    void check_extent(const ObjectDesc& object, const Bounds3f& world_bounds) {
-        if (world_bounds.is_empty()) return;
-        float largest = 0;
-        for (int axis = 0; axis < 3; ++axis)
-            largest = std::fmax(largest, std::fmax(std::fabs(world_bounds.lower[axis]), std::fabs(world_bounds.upper[axis])));
-        if (!(largest <= kMaxCoordinate))
+    // silently vanish: refuse them where they are written. An object under a Transform is tested
+    // in its own space, so its own coordinates (`object_bounds`; empty when it has no Transform)
+    // are held to the limit too: a sphere of radius 1e20 under UniformScale 1e-20 reached 1 in
+    // the world and vanished.
+    void check_extent(const ObjectDesc& object, const Bounds3f& world_bounds, const Bounds3f& object_bounds = {}) {
+        auto largest_coordinate = [](const Bounds3f& b) {
+            float largest = 0;
+            if (b.is_empty()) return largest;
+            for (int axis = 0; axis < 3; ++axis)
+                largest = std::fmax(largest, std::fmax(std::fabs(b.lower[axis]), std::fabs(b.upper[axis])));
+            return largest;
+        };
+        const float world = largest_coordinate(world_bounds);
+        const float own = largest_coordinate(object_bounds);
+        if (!(world <= kMaxCoordinate))
             errors_.push_back(error_at(
                 object.location,
-                past_coordinate_limit(string_printf("this object reaches coordinates of %g", double(largest)))));
+                past_coordinate_limit(string_printf("this object reaches coordinates of %g", double(world)))));
+        else if (!(own <= kMaxCoordinate))
+            errors_.push_back(error_at(
+                object.location,
+                past_coordinate_limit(
+                    string_printf("this object reaches coordinates of %g in its own space (before its Transform)",
+                                  double(own)),
+                    "give it smaller coordinates and its Transform a larger scale")));
     }
 
     // A plane has no extent, but its points are as far from the origin as it is, and beyond

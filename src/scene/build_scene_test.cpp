@@ -369,6 +369,50 @@ TEST(BuildSceneTest, SingularTransformIsAnInputErrorAtTheTransform) {
     }
 }
 
+// A transformed object is tested in its own space, so its own coordinates are held to the limit
+// of 1e18 (base/limits.h) as well as its world ones: each kind of object given at 1e20 and scaled
+// down to 1 is refused at the object, and the same at 1e10 scaled by 1e-10 is built.
+TEST(BuildSceneTest, ObjectsPastTheCoordinateLimitInTheirOwnSpaceAreRefused) {
+    const std::string remedy = ", beyond raycast's limit of 1e+18 (float arithmetic would overflow): give it smaller "
+                               "coordinates and its Transform a larger scale";
+    for (const float size : {1e20f, 1e10f}) {
+        const Curve profile{CurveType::Bezier, {{size, -size, 0}, {size, 0, 0}, {size, 0, 0}, {size, size, 0}}};
+        ObjectDesc mesh = mesh_object(0);
+        const std::pair<const char*, ObjectDesc> objects[] = {
+            {"sphere", sphere({0, 0, 0}, size)},
+            {"triangle", triangle({-size, -size, 0}, {size, -size, 0}, {0, size, 0})},
+            {"mesh", mesh},
+            {"surface of revolution", rev_surface(profile)},
+        };
+        for (const auto& [name, object] : objects) {
+            SCOPED_TRACE(std::string(name) + " of size " + std::to_string(size));
+            ObjectDesc located = object;
+            located.location = {"big.txt", 4, 9};
+            SceneDesc desc = scene_with(group({transform(Mat4::scale({1 / size, 1 / size, 1 / size}), located)}));
+            desc.meshes.push_back({"big.obj", sphere_mesh({0, 0, 0}, size, 4, 8)});
+            if (size < 1e18f) {
+                EXPECT_EQ(build_scene(std::move(desc), {}).instances.size(), 1u);
+                continue;
+            }
+            try {
+                build_scene(std::move(desc), {});
+                ADD_FAILURE() << "accepted";
+            } catch (const InputError& e) {
+                ASSERT_EQ(e.diagnostics().size(), 1u);
+                const Diagnostic& d = e.diagnostics()[0];
+                EXPECT_EQ(d.location.line, 4);
+                EXPECT_EQ(d.location.column, 9);
+                EXPECT_EQ(d.message.rfind("this object reaches coordinates of 1e+20 in its own space (before its "
+                                          "Transform)",
+                                          0),
+                          0u)
+                    << d.message;
+                EXPECT_EQ(d.message.substr(d.message.size() - remedy.size()), remedy);
+            }
+        }
+    }
+}
+
 TEST(BuildSceneTest, EverySingularTransformIsReportedIncludingRankDeficientMatrices) {
     // Rows (1 2 3), (4 5 6), (5 7 9): the third is the sum of the first two, no zero anywhere.
     const float rows[16] = {1, 2, 3, 0, 4, 5, 6, 0, 5, 7, 9, 0, 0, 0, 0, 1};
