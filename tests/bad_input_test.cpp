@@ -521,21 +521,29 @@ TEST(BadInputTest, SingularTransformsAreRejected) {
          ":25:15: error: a Scale factor of 0 squashes the object flat: the transform could not be inverted"},
         {"transform_singular_matrix.txt",
          ":25:20: error: 'Matrix4f' is singular (its determinant is 0): it cannot be inverted"},
-        // Each Scale 1e-20 is invertible; their product (1e-40 on the diagonal, determinant 1e-120)
-        // is not in floats: the error names the inner Transform, where the product is formed.
-        {"transform_singular_product.txt",
-         ":26:9: error: this transform cannot be inverted (it squashes space flat): check for a zero scale"},
+    });
+}
+
+// Each Scale 1e-10 is within the limit of 1e-18 to 1e18; their product is not: the error names the
+// inner Transform, where the product is formed. (Two Scale 1e-20, whose product's inverse is past
+// float, had been refused as singular there; each is past the limit now.)
+TEST(BadInputTest, TransformsScalingPastTheLimitTogetherAreRejected) {
+    expect_input_errors({
+        {"transform_tiny_scale_product.txt",
+         ":26:9: error: this transform (with those around it) scales by 1e-20, below raycast's limit of 1e-18 (float "
+         "arithmetic would overflow): give the objects in it smaller coordinates and it a larger scale"},
     });
 }
 
 TEST(BadInputTest, ErrorsFoundWhileBuildingTheSceneShowTheLineAndCaret) {
     // Found after parsing, by build_scene, and shown as the parser shows its own errors: a product
-    // of transforms that cannot be inverted, and the extent limit (1e18, base/limits.h) for a
+    // of transforms that scales past the limit, and the extent limit (1e18, base/limits.h) for a
     // triangle with corners at 1e20, the camera and a point light.
     const std::pair<const char*, const char*> cases[] = {
-        {"transform_singular_product.txt",
-         "tests/bad_inputs/transform_singular_product.txt:26:9: error: this transform cannot be inverted (it "
-         "squashes space flat): check for a zero scale\n"
+        {"transform_tiny_scale_product.txt",
+         "tests/bad_inputs/transform_tiny_scale_product.txt:26:9: error: this transform (with those around it) "
+         "scales by 1e-20, below raycast's limit of 1e-18 (float arithmetic would overflow): give the objects in it "
+         "smaller coordinates and it a larger scale\n"
          "          Transform {\n"
          "          ^\n"},
         // The camera too: rays from 1e30 overflow the same products.

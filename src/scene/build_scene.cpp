@@ -52,9 +52,12 @@ Bounds3f transformed_sphere_bounds(const Mat4& m, const Sphere& sphere) {
     const Vec3f center = transform_point(m, sphere.center);
     Bounds3f result;
     for (int i = 0; i < 3; ++i) {
-        const float reach = sphere.radius * std::sqrt(m.m[i][0] * m.m[i][0] + m.m[i][1] * m.m[i][1] + m.m[i][2] * m.m[i][2]);
-        result.lower[i] = center[i] - reach;
-        result.upper[i] = center[i] + reach;
+        // In double: a row of 1e20 (a sphere of radius 1e-20 under UniformScale 1e20) squares past float.
+        const double row = std::sqrt(double{m.m[i][0]} * m.m[i][0] + double{m.m[i][1]} * m.m[i][1] +
+                                     double{m.m[i][2]} * m.m[i][2]);
+        const double reach = sphere.radius * row;
+        result.lower[i] = static_cast<float>(center[i] - reach);
+        result.upper[i] = static_cast<float>(center[i] + reach);
     }
     return result;
 }
@@ -206,13 +209,14 @@ private:
                 const bool combined_moved = moved || !object.world_from_object.is_identity();
                 if (combined_moved) {
                     bool invertible = false;
-                    inverse(combined, &invertible);
+                    const Mat4 object_from_world = inverse(combined, &invertible);
                     if (!invertible) {
                         errors_.push_back(error_at(object.location,
                                                    "this transform cannot be inverted (it squashes space flat): "
                                                    "check for a zero scale"));
                         return;
                     }
+                    if (!check_scale(object, combined, object_from_world)) return;
                 }
                 for (const ObjectDesc& child : object.children) add_object(child, combined, combined_moved);
                 return;
@@ -308,6 +312,32 @@ private:
                 return;
         }
         scene_.instances.push_back(instance);
+    }
+
+    // Objects are tested in their own space, where a ray's direction is M⁻¹d: a scale past
+    // kMaxCoordinate either way squares it out of float's range, below it when M grows (a sphere
+    // of radius 1e-25 under UniformScale 1e25 vanished) and above it when M shrinks. The scale is the largest entry of the linear part of M (or
+    // the inverse of M⁻¹'s), the transforms around this one included. True when it is within.
+    bool check_scale(const ObjectDesc& object, const Mat4& world_from_object, const Mat4& object_from_world) {
+        auto largest_linear_entry = [](const Mat4& m) {
+            float largest = 0;
+            for (int row = 0; row < 3; ++row)
+                for (int column = 0; column < 3; ++column) largest = std::fmax(largest, std::fabs(m.m[row][column]));
+            return largest;
+        };
+        const float grows = largest_linear_entry(world_from_object);
+        const float shrinks = largest_linear_entry(object_from_world);
+        if (grows <= kMaxCoordinate && shrinks <= kMaxCoordinate) return true;
+        const bool up = grows > kMaxCoordinate;
+        errors_.push_back(error_at(
+            object.location,
+            string_printf("this transform (with those around it) scales by %g, %s raycast's limit of %g (float "
+                          "arithmetic would %s): %s",
+                          up ? double(grows) : 1 / double(shrinks), up ? "beyond" : "below",
+                          up ? double(kMaxCoordinate) : 1 / double(kMaxCoordinate), up ? "underflow" : "overflow",
+                          up ? "give the objects in it larger coordinates and it a smaller scale"
+                             : "give the objects in it smaller coordinates and it a larger scale")));
+        return false;
     }
 
     // Past kMaxCoordinate the float products in the intersection tests overflow and objects would

@@ -371,7 +371,7 @@ TEST(BuildSceneTest, SingularTransformIsAnInputErrorAtTheTransform) {
 
 // A transformed object is tested in its own space, so its own coordinates are held to the limit
 // of 1e18 (base/limits.h) as well as its world ones: each kind of object given at 1e20 and scaled
-// down to 1 is refused at the object, and the same at 1e10 scaled by 1e-10 is built.
+// by 1e-5 is refused at the object, and the same at 1e10 is built.
 TEST(BuildSceneTest, ObjectsPastTheCoordinateLimitInTheirOwnSpaceAreRefused) {
     const std::string remedy = ", beyond raycast's limit of 1e+18 (float arithmetic would overflow): give it smaller "
                                "coordinates and its Transform a larger scale";
@@ -388,7 +388,7 @@ TEST(BuildSceneTest, ObjectsPastTheCoordinateLimitInTheirOwnSpaceAreRefused) {
             SCOPED_TRACE(std::string(name) + " of size " + std::to_string(size));
             ObjectDesc located = object;
             located.location = {"big.txt", 4, 9};
-            SceneDesc desc = scene_with(group({transform(Mat4::scale({1 / size, 1 / size, 1 / size}), located)}));
+            SceneDesc desc = scene_with(group({transform(Mat4::scale({1e-5f, 1e-5f, 1e-5f}), located)}));
             desc.meshes.push_back({"big.obj", sphere_mesh({0, 0, 0}, size, 4, 8)});
             if (size < 1e18f) {
                 EXPECT_EQ(build_scene(std::move(desc), {}).instances.size(), 1u);
@@ -409,6 +409,39 @@ TEST(BuildSceneTest, ObjectsPastTheCoordinateLimitInTheirOwnSpaceAreRefused) {
                     << d.message;
                 EXPECT_EQ(d.message.substr(d.message.size() - remedy.size()), remedy);
             }
+        }
+    }
+}
+
+// In an object's own space a ray's direction is M⁻¹d, squared in the tests: a transform (with
+// those around it) may scale by 1e-18 to 1e18, and past that it is refused at the transform.
+TEST(BuildSceneTest, TransformsScalingPastTheLimitAreRefused) {
+    const std::pair<float, const char*> cases[] = {
+        {1e19f, "this transform (with those around it) scales by 1e+19, beyond raycast's limit of 1e+18 (float "
+                "arithmetic would underflow): give the objects in it larger coordinates and it a smaller scale"},
+        {1e-19f, "this transform (with those around it) scales by 1e-19, below raycast's limit of 1e-18 (float "
+                 "arithmetic would overflow): give the objects in it smaller coordinates and it a larger scale"},
+        {1e17f, nullptr},
+        {1e-17f, nullptr},
+    };
+    for (const auto& [factor, message] : cases) {
+        SCOPED_TRACE(factor);
+        // Split over two transforms: the limit is on their product.
+        const float half = std::sqrt(factor);
+        SceneDesc desc = scene_with(group({transform(
+            Mat4::scale({half, half, half}),
+            transform(Mat4::rotate_z(30) * Mat4::scale({half, half, half}), sphere({0, 0, 0}, 1 / factor)),
+            {"scaled.txt", 3, 5})}));
+        if (!message) {
+            EXPECT_EQ(build_scene(std::move(desc), {}).instances.size(), 1u);
+            continue;
+        }
+        try {
+            build_scene(std::move(desc), {});
+            ADD_FAILURE() << "accepted";
+        } catch (const InputError& e) {
+            ASSERT_EQ(e.diagnostics().size(), 1u);
+            EXPECT_EQ(e.diagnostics()[0].message, message);
         }
     }
 }
