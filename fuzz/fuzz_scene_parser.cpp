@@ -28,6 +28,7 @@
 #include "render/render.h"
 #include "scene/build_scene.h"
 #include "sceneio/parse_scene.h"
+#include "sceneio/text_check.h"
 
 namespace {
 
@@ -88,8 +89,11 @@ void check_numbers(const uint8_t* data, size_t size) {
 
 // ---- diagnostics -------------------------------------------------------------------------------
 
-void check_diagnostics(const InputError& error, std::string_view text) {
-    // Line starts, to check that every location lies inside the text.
+void check_diagnostics(const InputError& error, std::string_view file_text) {
+    // Line starts, to check that every location lies inside the text, as the parser reads it
+    // (classic Mac line breaks count as line breaks).
+    std::string converted;
+    const std::string_view text = as_unix_text(file_text, converted);
     std::vector<size_t> line_start{0};
     for (size_t i = 0; i < text.size(); ++i)
         if (text[i] == '\n') line_start.push_back(i + 1);

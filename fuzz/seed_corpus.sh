@@ -28,6 +28,7 @@ mkdir -p "$scene_dir" "$obj_dir" "$image_dir" "$pipeline_dir"
 
 # ---- scenes and meshes: the project's own files ----
 cp testcases/*.txt scenes/revolution.txt "$scene_dir/"
+tr '\n' '\r' <testcases/scene01_basic.txt >"$scene_dir/seed-cr-only.txt"  # classic Mac line breaks
 cp mesh/*.obj "$obj_dir/"
 # Index forms the project's meshes do not use: v/t/n, v//n, v/t, negative indices, polygons,
 # comments, CRLF and a byte order mark.
@@ -37,6 +38,10 @@ printf 'v 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nvn 0 0 1\r\nf -3//1 -2//1 -1//1\r\nf 1/
   >"$obj_dir/seed-negative-crlf.obj"
 printf '\xef\xbb\xbfo thing\ng part\nusemtl red\nv 1e3 -2.5E-2 .5\nv +1 2. 3\nv 0 0 0\ns off\nf 1 2 3\nl 1 2\n' \
   >"$obj_dir/seed-bom-other-statements.obj"
+# Classic Mac line breaks (CR alone) with a DOS end mark, and Microsoft's NaN text and a line
+# continuation.
+printf 'v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 3\r\x1a' >"$obj_dir/seed-cr-only-dos-end.obj"
+printf 'v 0 0 0\nv 1 0 0 \\\nv 0 1.#IND 0\nvn -1.#INF 0 1\nf 1 2 3#c\n' >"$obj_dir/seed-msvc-nan-continuation.obj"
 
 # ---- images: what the program writes, at a small size ----
 formats=(bmp ppm tga)
