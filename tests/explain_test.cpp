@@ -339,6 +339,75 @@ TEST(ExplainTest, GlassSurfacesOfRevolutionAreRayTracedAndExplained) {
     EXPECT_GT(through_glass, 20) << "rays should enter the goblet's glass and leave it";
 }
 
+// A glass ball between two facing mirrors, the camera between them: with the weight cutoff off,
+// each ray's tree doubles at every meeting with the glass.
+const char* const kMirrorsAndGlassScene = R"(PerspectiveCamera {
+    center 0 0 0.5  direction 0 0 -1  up 0 1 0  angle 30  width 8  height 8
+}
+Lights { numLights 1 PointLight { position 0 0.5 0 color 1 1 1 } }
+Background { color 0 0 0 }
+Materials {
+    numMaterials 2
+    Material { diffuseColor 0.1 0.1 0.1 reflectiveColor 0.9 0.9 0.9 }
+    Material { diffuseColor 0 0 0 reflectiveColor 0.5 0.5 0.5 transparentColor 0.5 0.5 0.5 indexOfRefraction 1.5 }
+}
+Group {
+    numObjects 3
+    MaterialIndex 0
+    Plane { normal 0 0 1 offset -2 }
+    Plane { normal 0 0 -1 offset -2 }
+    MaterialIndex 1
+    Sphere { center 0 0 -1 radius 0.5 }
+}
+)";
+
+// Trees that double with every bounce: at 80 bounces one pixel's JSON was 421 MB. The trees of a
+// pixel keep at most kMaxExplainedRays rays (shared out among its samples) and count the rest;
+// the colour is still that of every ray traced, and the JSON's indentation stops growing past 16
+// levels.
+TEST(ExplainTest, DeepTreesAreCutAtTheLimitAndCountWhatTheyLeaveOut) {
+    const std::string dir = temp_dir("explain/deep");
+    write_file(dir + "/s.txt", kMirrorsAndGlassScene);
+    const Scene scene = build_scene(load_scene_file(dir + "/s.txt"), SceneBuildOptions{});
+    RenderOptions options;
+    options.shadows = true;
+    options.transparent_shadows = true;
+    options.bounces = 40;
+    options.weight_cutoff = 0;
+    options.threads = 2;
+    for (const int spp : {1, 4}) {
+        SCOPED_TRACE(spp);
+        options.samples_per_pixel = spp;
+        const ImageRgb8 image = render_image_rgb8(scene, options);
+        const size_t capacity = kMaxExplainedRays / static_cast<size_t>(spp);
+        int full = 0, mismatches = 0;
+        const int row = 4;  // through the ball
+        for (int x = 0; x < image.width; ++x) {
+            const PixelExplanation e = explain_pixel(scene, options, x, row);
+            const uint8_t* pixel = image.at(x, image.height - 1 - row);
+            if (e.rgb8[0] != pixel[0] || e.rgb8[1] != pixel[1] || e.rgb8[2] != pixel[2]) ++mismatches;
+            for (const RayTree& tree : e.samples) {
+                ASSERT_LE(tree.rays.size(), capacity);
+                if (tree.unrecorded == 0) continue;
+                EXPECT_EQ(tree.rays.size(), capacity);
+                ++full;
+            }
+            const std::string text = explanation_json(e);
+            const JsonValue json = parse_json(text);
+            EXPECT_EQ(json["samples"][0]["unrecorded_rays"].number, double(e.samples[0].unrecorded));
+            size_t widest_indent = 0;
+            for (size_t start = 0; start < text.size();) {
+                const size_t end = std::min(text.find('\n', start), text.size());
+                widest_indent = std::max(widest_indent, text.find_first_not_of(' ', start) - start);
+                start = end + 1;
+            }
+            EXPECT_LE(widest_indent, 32u);
+        }
+        EXPECT_EQ(mismatches, 0);
+        EXPECT_GT(full, 0) << "no tree reached the limit";
+    }
+}
+
 TEST(ExplainTest, MistakesOnTheCommandLineAreUsageErrors) {
     const std::string dir = scene_dir("usage");
     struct Case {

@@ -24,8 +24,10 @@ RayCounts& RayCounts::operator+=(const RayCounts& other) {
 
 namespace {
 
+// The record of the context's ray; null when no tree is kept, or when the tree was full (the ray
+// was counted as unrecorded, and so are those traced from it).
 RayRecord* record_of(const TraceContext& context) {
-    return context.tree ? &context.tree->rays[static_cast<size_t>(context.record)] : nullptr;
+    return context.tree && context.record >= 0 ? &context.tree->rays[static_cast<size_t>(context.record)] : nullptr;
 }
 
 // Takes one ray from the camera sample's budget; false when it is spent (the first time, the
@@ -460,7 +462,7 @@ Vec3f trace_ray(const Integrator& integrator, const Ray& ray, RayKind kind, Vec3
         record.weight = child.weight;
         record.multiplier = multiplier;
         record.index_of_refraction = child.index_of_refraction;
-        child.record = child.tree->add(std::move(record));
+        child.record = child.tree->add(std::move(record));  // -1 when the tree is full
     }
     return integrator.radiance(integrator, ray, hit, child);
 }

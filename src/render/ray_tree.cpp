@@ -146,6 +146,7 @@ std::string explanation_json(const PixelExplanation& e) {
             json.null();
         else
             write_ray(json, tree, children, 0);
+        json.integer_field("unrecorded_rays", static_cast<long long>(tree.unrecorded));
         json.close('}');
     }
     json.close(']');
