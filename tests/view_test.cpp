@@ -434,5 +434,61 @@ TEST_F(ViewTest, ANewerImageRequestCancelsTheOneInProgress) {
     EXPECT_EQ(slow.body, "cancelled: a newer image was asked for\n");
 }
 
+// A refused request (a bad parameter) is answered at once and cancels nothing: it had taken a
+// number first, and the render in progress answered 409 though nothing newer was drawn.
+TEST_F(ViewTest, ARefusedImageRequestCancelsNothing) {
+    const std::string dir = scene_dir("refused");
+    ViewSettings settings;
+    settings.scene_path = dir + "/s.txt";
+    settings.render.threads = 2;
+    ViewSession session(settings);
+    ASSERT_TRUE(session.reload_if_changed());
+    ViewResponse slow;
+    std::thread first([&] { slow = session.image({{"width", "600"}, {"height", "400"}, {"spp", "16"}, {"mode", "ao"}}); });
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const ViewResponse bad = session.image({{"spp", "0"}});
+    first.join();
+    EXPECT_EQ(bad.status, 400);
+    EXPECT_EQ(slow.status, 200) << slow.body;
+}
+
+// A mesh saved twice in quick succession, the second time while the viewer loads the first: the
+// files' stamps were taken after the load, so the second version was recorded as loaded and the
+// viewer kept showing the first. Whenever the second save lands, the viewer ends up showing it.
+TEST_F(ViewTest, AMeshSavedAgainWhileItLoadsIsLoadedAgain) {
+    const std::string dir = scene_dir("saved_twice");
+    ViewSettings settings;
+    settings.scene_path = dir + "/s.txt";
+    settings.render.threads = 2;
+    ViewSession session(settings);
+    ASSERT_TRUE(session.reload_if_changed());
+    // A grid of 2 × 400² triangles, which takes tens of milliseconds to load and build.
+    std::string big;
+    const int n = 400;
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) big += "v " + std::to_string(-4 + 8.0 * i / n) + " " + std::to_string(-1 + 4.0 * j / n) + " -3\n";
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const int a = i * (n + 1) + j + 1, b = a + n + 1;
+            big += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(b + 1) + " " +
+                   std::to_string(a + 1) + "\n";
+        }
+    const std::string final_mesh = "v -2 -1 -2\nv 2 -1 -2\nv 0 2 -2\nf 1 2 3\n";
+    for (const int delay_ms : {5, 20, 40}) {
+        SCOPED_TRACE(delay_ms);
+        write_file(dir + "/quad.obj", big);
+        std::thread loader([&] { session.reload_if_changed(); });
+        std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+        write_file(dir + "/quad.obj", final_mesh);
+        loader.join();
+        session.reload_if_changed();  // what the viewer's next look at the files does
+        ViewSession fresh(settings);
+        ASSERT_TRUE(fresh.reload_if_changed());
+        const ViewResponse shown = session.image({});
+        ASSERT_EQ(shown.status, 200);
+        EXPECT_TRUE(shown.body == fresh.image({}).body) << "the viewer shows a mesh that is no longer on disk";
+    }
+}
+
 }  // namespace
 }  // namespace raycast::test

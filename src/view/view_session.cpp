@@ -154,13 +154,18 @@ std::vector<Diagnostic> ViewSession::diagnostics() const {
 }
 
 bool ViewSession::reload_if_changed() {
+    // The files as they are before this load reads them: a file written again while the load
+    // reads it must not be recorded as loaded (a mesh saved twice 30 ms apart left the viewer
+    // showing the first version, with no error).
+    std::vector<FileStamp> before{stamp(settings_.scene_path)};
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (loaded_.version > 0) {
-            bool changed = false;
-            for (const FileStamp& old : stamps_) changed |= !(stamp(old.path) == old);
-            if (!changed) return false;
+        bool changed = loaded_.version == 0;
+        for (const FileStamp& old : stamps_) {
+            before.push_back(stamp(old.path));
+            changed |= !(before.back() == old);
         }
+        if (!changed) return false;
     }
     // Load and build outside the lock: requests go on with the last scene meanwhile.
     std::shared_ptr<SceneDesc> desc;
@@ -199,6 +204,11 @@ bool ViewSession::reload_if_changed() {
                 stamps.push_back(stamp(old.path));
     }
     loaded_.errors = std::move(errors);
+    // A file that changed while it was read keeps the stamp from before, so that the next look
+    // finds it changed and loads it again.
+    for (FileStamp& after : stamps)
+        for (const FileStamp& earlier : before)
+            if (earlier.path == after.path && !(earlier == after)) after = earlier;
     stamps_ = std::move(stamps);
     ++loaded_.version;
     return true;
@@ -394,10 +404,16 @@ bool ViewSession::prepare(const QueryParameters& query, bool explaining, Prepare
 }
 
 ViewResponse ViewSession::image(const QueryParameters& query) {
-    const uint64_t id = ++latest_image_;
+    // Requests are numbered as they arrive, and the newest one that is valid cancels the older
+    // renders; a refused request (a bad parameter, the scene reloading) cancels nothing.
+    const uint64_t id = ++image_tickets_;
     Prepared prepared;
     ViewResponse refusal;
     if (!prepare(query, false, prepared, refusal)) return refusal;
+    uint64_t latest = latest_image_.load();
+    while (latest < id && !latest_image_.compare_exchange_weak(latest, id)) {
+    }
+    if (latest > id) return text_response(409, "cancelled: a newer image was asked for");
     const std::shared_ptr<const Scene>& scene = prepared.scene;
     RenderOptions& options = prepared.request.options;
     options.cancelled = [this, id] { return latest_image_.load(std::memory_order_relaxed) != id; };

@@ -100,7 +100,8 @@ private:
     std::vector<FileStamp> stamps_;
     std::map<std::string, std::shared_ptr<const Scene>> scenes_;  // built from loaded_.desc, per conventions
     std::mutex build_mutex_;  // one scene build at a time
-    std::atomic<uint64_t> latest_image_{0};
+    std::atomic<uint64_t> image_tickets_{0};  ///< one per /image request, in order of arrival
+    std::atomic<uint64_t> latest_image_{0};   ///< the newest valid request's ticket: it renders
 };
 
 /// The viewer's HTML page: one self-contained file (no external scripts, styles or fonts).
