@@ -59,11 +59,38 @@ bool parse_switch(const std::string& text, bool& value) {
     return false;
 }
 
-// A query value as it may be shown in a message: short and printable.
+// A query value as it may be shown in a message: short, printable ASCII (the answer is UTF-8
+// text, and a decoded %FF is no character).
 std::string shown(const std::string& value) {
     std::string out;
-    for (const char c : value.substr(0, 40)) out += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
+    for (const char c : value.substr(0, 40)) out += static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f ? '?' : c;
     return "'" + out + (value.size() > 40 ? "...'" : "'");
+}
+
+int hex_digit(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+// Percent-decoding of one name or value; false for a '%' not followed by two hex digits.
+bool decode_query_text(const std::string& text, std::string& out) {
+    out.clear();
+    for (size_t i = 0; i < text.size(); ++i) {
+        if (text[i] == '+') {
+            out += ' ';
+        } else if (text[i] != '%') {
+            out += text[i];
+        } else {
+            const int high = i + 2 < text.size() ? hex_digit(text[i + 1]) : -1;
+            const int low = high >= 0 ? hex_digit(text[i + 2]) : -1;
+            if (low < 0) return false;
+            out += static_cast<char>(high * 16 + low);
+            i += 2;
+        }
+    }
+    return true;
 }
 
 // Everything of the conventions that the scene or its shading reads, as a cache key.
@@ -94,6 +121,32 @@ void write_diagnostics(JsonWriter& json, const char* name, const std::vector<Dia
 }
 
 }  // namespace
+
+bool parse_query(const std::string& target, QueryParameters& parameters, std::string& error) {
+    parameters.clear();
+    const size_t question = target.find('?');
+    if (question == std::string::npos) return true;
+    const std::string query = target.substr(question + 1);
+    for (size_t start = 0; start <= query.size();) {
+        size_t end = query.find('&', start);
+        if (end == std::string::npos) end = query.size();
+        const std::string part = query.substr(start, end - start);
+        start = end + 1;
+        if (part.empty()) continue;  // "a=1&&b=2", or a '&' last
+        const size_t equals = part.find('=');
+        std::string name, value;
+        if (equals == std::string::npos || part.find('=', equals + 1) != std::string::npos || equals == 0) {
+            error = "a query parameter must be NAME=VALUE, got " + shown(part);
+            return false;
+        }
+        if (!decode_query_text(part.substr(0, equals), name) || !decode_query_text(part.substr(equals + 1), value)) {
+            error = "a '%' in the query must be followed by two hex digits, got " + shown(part);
+            return false;
+        }
+        parameters.emplace(std::move(name), std::move(value));
+    }
+    return true;
+}
 
 // A request's render options, conventions and camera, and the pixel for /explain.
 struct ViewSession::Request {

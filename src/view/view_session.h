@@ -44,6 +44,13 @@ struct ViewResponse {
 
 using QueryParameters = std::multimap<std::string, std::string>;
 
+/// The parameters of a request target's query ("/image?spp=4&mode=ao"), read strictly: parts
+/// separated by '&' alone, each NAME=VALUE with one '=' and a name, '%' followed by two hex
+/// digits, '+' a space. False, with `error` saying why, otherwise: the HTTP library's own reader
+/// dropped a repeated parameter given twice alike, read "spp=1=2" as 2, took ';' as a separator
+/// and "%u0038" as "8", so that requests the viewer documents as refused were answered.
+bool parse_query(const std::string& target, QueryParameters& parameters, std::string& error);
+
 class ViewSession {
 public:
     explicit ViewSession(ViewSettings settings);
