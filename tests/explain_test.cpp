@@ -425,6 +425,8 @@ TEST(ExplainTest, MistakesOnTheCommandLineAreUsageErrors) {
              Case{"explain -input s.txt -size 4 4 -output o.ppm 1 1",
                   "raycast: usage error: explain prints the ray tree of one pixel and writes no image: drop -output, "
                   "-depth and -normals"},
+             Case{"explain s.txt 15 15 --crop 0,0,10,10",
+                  "raycast: usage error: explain takes X and Y in the whole image: drop --crop"},
          }) {
         const RunResult run = run_raycast(c.arguments, dir);
         EXPECT_EQ(run.exit_code, 2) << c.arguments << "\n" << run.output;

@@ -269,6 +269,8 @@ bool looks_like_integer(const std::string& text) {
 void check_explain_options(CliOptions& options, const std::vector<std::string>& positional) {
     if (!options.output_path.empty() || !options.depth_path.empty() || !options.normals_path.empty())
         usage_error("explain prints the ray tree of one pixel and writes no image: drop -output, -depth and -normals");
+    // X and Y are pixels of the whole image; a window would only suggest otherwise.
+    if (options.render.has_crop) usage_error("explain takes X and Y in the whole image: drop --crop");
     const size_t wanted = options.mit_form ? 2 : 3;
     if (positional.size() != wanted)
         usage_error(options.mit_form ? "explain needs the pixel: raycast explain -input SCENE X Y"

@@ -1,9 +1,12 @@
 #include "image/crop_pieces.h"
 
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 
 #include "base/error.h"
+#include "base/limits.h"
+#include "base/parse_number.h"
 #include "image/image_io.h"
 
 namespace raycast {
@@ -11,9 +14,33 @@ namespace {
 
 constexpr const char* kCropKey = "raycast-crop";
 
+// Within the frame, and a frame raycast could have rendered: a record claiming 16384x16384 (past
+// the pixel limit) had merge allocate 1.8 GB before it found the piece alone.
 bool placement_is_valid(const CropPlacement& p) {
     return p.full_width > 0 && p.full_height > 0 && p.full_width <= kMaxImageSide && p.full_height <= kMaxImageSide &&
-           0 <= p.x0 && p.x0 < p.x1 && p.x1 <= p.full_width && 0 <= p.y0 && p.y0 < p.y1 && p.y1 <= p.full_height;
+           int64_t{p.full_width} * p.full_height <= kMaxImagePixels && 0 <= p.x0 && p.x0 < p.x1 &&
+           p.x1 <= p.full_width && 0 <= p.y0 && p.y0 < p.y1 && p.y1 <= p.full_height;
+}
+
+// Reads "X0,Y0,X1,Y1 of WxH" (after the key and one space) exactly: whole numbers in int's range,
+// nothing else. sscanf's %d had wrapped 4294967297 to 1 (undefined behaviour besides).
+bool parse_placement(const std::string& text, CropPlacement& p) {
+    const char* at = text.c_str();
+    const char* const end = at + text.size();
+    auto number = [&](int& out, const char* then) {
+        int64_t value = 0;
+        const NumberResult result = parse_int(at, end, value);
+        if (result.status != NumberStatus::Ok || value < INT32_MIN || value > INT32_MAX) return false;
+        out = static_cast<int>(value);
+        at = result.end;
+        const size_t length = std::strlen(then);
+        if (static_cast<size_t>(end - at) < length || std::strncmp(at, then, length) != 0) return false;
+        at += length;
+        return true;
+    };
+    if (*at++ != ' ') return false;
+    return number(p.x0, ",") && number(p.y0, ",") && number(p.x1, ",") && number(p.y1, " of ") &&
+           number(p.full_width, "x") && number(p.full_height, "") && at == end;
 }
 
 }  // namespace
@@ -38,10 +65,7 @@ CropPiece read_crop_piece(const std::string& path) {
     for (const std::string& comment : ppm_header_comments(bytes)) {
         if (comment.compare(0, std::strlen(kCropKey), kCropKey) != 0) continue;
         CropPlacement& p = piece.placement;
-        char tail = 0;
-        const int fields = std::sscanf(comment.c_str() + std::strlen(kCropKey), " %d,%d,%d,%d of %dx%d%c", &p.x0, &p.y0,
-                                       &p.x1, &p.y1, &p.full_width, &p.full_height, &tail);
-        if (fields != 6 || !placement_is_valid(p))
+        if (!parse_placement(comment.substr(std::strlen(kCropKey)), p) || !placement_is_valid(p))
             throw InputError(path, "bad crop record '" + comment + "': expected 'raycast-crop X0,Y0,X1,Y1 of WxH'");
         found = true;
         break;
