@@ -131,6 +131,18 @@ TEST(CliTest, UsageErrorsExitTwoWithAMessageAndAHint) {
         {"--weight 1.5 s.txt o.ppm", "--weight must be from 0 to 1, got 1.5"},
         {"--weight -0.1 s.txt o.ppm", "--weight must be from 0 to 1, got -0.1"},
         {"--weight nan s.txt o.ppm", "--weight needs a number, got 'nan'"},
+        // An unset shell variable ("$OUT") gives an empty argument: the render wrote nothing.
+        {"s.txt ''", "OUTPUT is an empty name: name the image to write"},
+        {"'' o.ppm", "SCENE is an empty name"},
+        {"s.txt o.ppm --depth ''", "--depth needs a file name, got an empty one"},
+        {"-input s.txt -size 8 8 -output ''", "-output needs a file name, got an empty one"},
+        // One file for two outputs: the last written won, in silence.
+        {"s.txt o.ppm --depth ./o.ppm", "the image and --depth are both './o.ppm': give each its own name"},
+        {"s.txt o.ppm --depth d.ppm --normals d.ppm", "--depth and --normals are both 'd.ppm': give each its own name"},
+        {"-input s.txt -size 8 8 -output o.ppm -depth 1 2 d.ppm -normals o.ppm",
+         "the image and -normals are both 'o.ppm': give each its own name"},
+        {"-input s.txt -size 8 8 -output o.ppm -depth 9 9 d.ppm", "-depth needs NEAR < FAR, got 9 9"},
+        {"s.txt o.ppm --aperture 1e30", "--aperture must be at most 1e+18, raycast's coordinate limit, got 1e+30"},
         {"-jx s.txt o.ppm", "-j needs a whole number, got 'x'"},
         {"--threads= s.txt o.ppm", "--threads needs a whole number, got ''"},
         {"--stats=1 s.txt o.ppm", "--stats takes no value, got '1'"},
@@ -151,6 +163,17 @@ TEST(CliTest, UsageErrorsExitTwoWithAMessageAndAHint) {
 }
 
 // ---- MIT 6.837's form ------------------------------------------------------------------------
+
+// A name the folder cannot hold is refused before the render, not after it by the final rename.
+TEST(CliTest, AnOutputNameTooLongForItsFolderIsRefusedBeforeTheRender) {
+    const std::string dir = scene_dir("long_name");
+    const std::string name = std::string(300, 'a') + ".ppm";
+    const RunResult run = run_raycast("s.txt " + name, dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(first_line(run.output),
+              name + ": error: cannot write image: its name is 304 bytes long, and the folder takes at most 255");
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj"}));
+}
 
 TEST(CliTest, MitFormRendersAtTheSizeGiven) {
     const std::string dir = scene_dir("mit_form");

@@ -15,6 +15,7 @@
 #include <exception>
 #include <mutex>
 #include <stdexcept>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -87,9 +88,15 @@ public:
             if (stopping_) return false;  // a call during exit, from another thread
             if (static_cast<int>(threads_.size()) < helpers) {
                 const BlockAsynchronousSignals blocked;  // the helpers inherit the mask
-                while (static_cast<int>(threads_.size()) < helpers) {
-                    const int index = static_cast<int>(threads_.size());
-                    threads_.emplace_back([this, index] { helper_main(index); });
+                try {
+                    while (static_cast<int>(threads_.size()) < helpers) {
+                        const int index = static_cast<int>(threads_.size());
+                        threads_.emplace_back([this, index] { helper_main(index); });
+                    }
+                } catch (const std::system_error&) {
+                    // The system would start no more threads (ulimit -u, say): the job runs on
+                    // those there are. Every result is the same for any number of threads.
+                    helpers = static_cast<int>(threads_.size());
                 }
             }
             job_ = &job;
@@ -197,7 +204,11 @@ thread_local bool HelperPool::t_in_job = false;
 void run_on_new_threads(Job& job, int helpers) {
     std::vector<std::thread> threads;
     threads.reserve(static_cast<size_t>(helpers));
-    for (int worker = 1; worker <= helpers; ++worker) threads.emplace_back([&job, worker] { job.run(worker); });
+    try {
+        for (int worker = 1; worker <= helpers; ++worker) threads.emplace_back([&job, worker] { job.run(worker); });
+    } catch (const std::system_error&) {
+        // No more threads to be had: those started and the caller share the items.
+    }
     job.run(0);
     for (std::thread& thread : threads) thread.join();
 }

@@ -197,6 +197,13 @@ public:
         }
         return arg;
     }
+    /// A file name: like value_for, and not empty ("" is what an unset shell variable gives, and
+    /// a render would write nothing).
+    std::string file_name_for(const std::string& option, const std::string& missing_message = "") {
+        std::string name = value_for(option, missing_message);
+        if (name.empty()) usage_error(option + " needs a file name, got an empty one");
+        return name;
+    }
     std::string value_for(const std::string& option, const std::string& missing_message = "") {
         if (!attached_to_.empty()) {
             attached_to_.clear();
@@ -249,6 +256,9 @@ void check_render_options(CliOptions& options, const std::vector<std::string>& p
         if (positional.size() > 2) usage_error("unexpected argument '" + positional[2] + "'");
         options.scene_path = positional[0];
         options.output_path = positional[1];
+        // An unset shell variable ("$OUT") gives an empty argument: the render would write nothing.
+        if (options.scene_path.empty()) usage_error("SCENE is an empty name");
+        if (options.output_path.empty()) usage_error("OUTPUT is an empty name: name the image to write");
     }
     if (options.render.has_crop) {
         const CropWindow& c = options.render.crop;
@@ -326,9 +336,9 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             if (arg == "-q" || arg == "--quiet") {
                 options.quiet = true;
             } else if (compare && arg == "--diff") {
-                options.diff_path = args.value_for(arg, "--diff needs a file name");
+                options.diff_path = args.file_name_for(arg, "--diff needs a file name");
             } else if (compare && arg == "--mask") {
-                options.mask_path = args.value_for(arg, "--mask needs a file name");
+                options.mask_path = args.file_name_for(arg, "--mask needs a file name");
             } else if (compare && arg == "--max-diff") {
                 options.tolerance.max_diff =
                     parse_count(args.value_for(arg, "--max-diff needs a number of levels, 0 to 255"), "--max-diff", 255);
@@ -338,7 +348,7 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
                     args.value_for(arg, "--max-fraction needs a fraction of the pixels, 0 to 1"), "--max-fraction");
                 options.grade = true;
             } else if (!compare && (arg == "-o" || arg == "--output")) {
-                options.merge_output = args.value_for(arg, arg + " needs a file name");
+                options.merge_output = args.file_name_for(arg, arg + " needs a file name");
             } else if (arg.size() > 1 && arg[0] == '-') {
                 usage_error("unknown option '" + arg + "' for " + argv[1]);
             } else {
@@ -376,7 +386,7 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
         // MIT 6.837's flags.
         if (arg == "-input") {
             options.mit_form = true;
-            options.scene_path = args.value_for(arg);
+            options.scene_path = args.file_name_for(arg);
         } else if (arg == "-size") {
             options.mit_form = true;
             options.width = parse_positive_int(args.value_for(arg), "-size width", kMaxImageSide);
@@ -384,15 +394,20 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             check_pixel_count("-size", options);
         } else if (arg == "-output") {
             options.mit_form = true;
-            options.output_path = args.value_for(arg);
+            options.output_path = args.file_name_for(arg);
         } else if (arg == "-depth") {
             options.mit_form = true;
             options.render.depth_near = parse_number(args.value_for("-depth NEAR FAR FILE"), "-depth NEAR");
             options.render.depth_far = parse_number(args.value_for("-depth NEAR FAR FILE"), "-depth FAR");
-            options.depth_path = args.value_for("-depth NEAR FAR FILE");
+            options.depth_path = args.file_name_for("-depth NEAR FAR FILE");
+            // As --depth-range: NEAR 0 and FAR 0 would mean "the visible range", which MIT's
+            // form does not have.
+            if (!(options.render.depth_far > options.render.depth_near))
+                usage_error(string_printf("-depth needs NEAR < FAR, got %g %g", double(options.render.depth_near),
+                                          double(options.render.depth_far)));
         } else if (arg == "-normals") {
             options.mit_form = true;
-            options.normals_path = args.value_for(arg);
+            options.normals_path = args.file_name_for(arg);
         } else if (arg == "-shade_back" || arg == "--shade-back") {
             choices.shade_back = true;
         } else if (arg == "-specular_fix" || arg == "--specular-fix") {
@@ -460,9 +475,9 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             if (!(options.render.ao_distance > 0) || !std::isfinite(options.render.ao_distance))
                 usage_error("--ao-distance must be a positive number, got " + value);
         } else if (arg == "--depth") {
-            options.depth_path = args.value_for(arg);
+            options.depth_path = args.file_name_for(arg);
         } else if (arg == "--normals") {
-            options.normals_path = args.value_for(arg);
+            options.normals_path = args.file_name_for(arg);
         } else if (arg == "--depth-range") {
             const std::string range = args.value_for(arg);
             const std::vector<std::string> parts = split(range, ',');
@@ -476,6 +491,10 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
         } else if (arg == "--aperture") {
             options.aperture = parse_number(args.value_for(arg), arg);
             if (!(options.aperture >= 0)) usage_error("--aperture must not be negative");
+            // The lens's rays start up to half of it from the camera: held to the camera's limit.
+            if (!(options.aperture <= kMaxCoordinate))
+                usage_error(string_printf("--aperture must be at most %g, raycast's coordinate limit, got %g",
+                                          double(kMaxCoordinate), double(options.aperture)));
         } else if (arg == "--focus-distance") {
             options.focus_distance = parse_number(args.value_for(arg), arg);
             options.has_focus_distance = true;

@@ -70,21 +70,58 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
     if (*image_format_for_path(path) == ImageFormat::Png && !png_supported())
         throw InputError(path, "PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
     struct stat info;
-    if (::stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
-        throw InputError(path, "cannot write image: it is a directory");
+    const bool exists = ::stat(path.c_str(), &info) == 0;
+    if (exists && S_ISDIR(info.st_mode)) throw InputError(path, "cannot write image: it is a directory");
+    const uid_t file_owner = exists ? info.st_uid : 0;
     const std::string folder = folder_of(path);
     if (::stat(folder.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
         throw InputError(path, "cannot write image: the folder '" + folder + "' does not exist");
     if (::access(folder.c_str(), W_OK) != 0)
         throw InputError(path, "cannot write image: the folder '" + folder + "' is not writable: " + std::strerror(errno));
+    // The image replaces the file by a rename, which these refuse only at the end of the render.
+    const std::string name = path.substr(path.find_last_of('/') + 1);
+    const long name_max = ::pathconf(folder.c_str(), _PC_NAME_MAX);
+    if (name_max > 0 && static_cast<long>(name.size()) > name_max)
+        throw InputError(path, string_printf("cannot write image: its name is %zu bytes long, and the folder takes at "
+                                             "most %ld",
+                                             name.size(), name_max));
+    const uid_t me = ::geteuid();
+    if (exists && (info.st_mode & S_ISVTX) && me != 0 && file_owner != me && info.st_uid != me)
+        throw InputError(path, "cannot write image: the file belongs to another user, and its folder (sticky, as /tmp "
+                               "is) lets only the owner replace it: choose another name");
+}
+
+// The same file named twice, even differently spelt ("out.bmp" and "./out.bmp"): the same
+// string, the same existing file, or the same name in the same folder.
+bool same_output(const std::string& a, const std::string& b) {
+    if (a == b || same_file(a, b)) return true;
+    auto name_of = [](const std::string& path) { return path.substr(path.find_last_of('/') + 1); };
+    if (name_of(a) != name_of(b)) return false;
+    struct stat fa, fb;
+    return ::stat(folder_of(a).c_str(), &fa) == 0 && ::stat(folder_of(b).c_str(), &fb) == 0 && fa.st_dev == fb.st_dev &&
+           fa.st_ino == fb.st_ino;
+}
+
+// Each output once: with the image and --depth (or --normals) the same file, the last written
+// won and the other was lost in silence.
+void check_outputs_differ(const std::vector<std::pair<const char*, std::string>>& outputs) {
+    for (size_t i = 0; i < outputs.size(); ++i)
+        for (size_t j = i + 1; j < outputs.size(); ++j)
+            if (!outputs[i].second.empty() && !outputs[j].second.empty() &&
+                same_output(outputs[i].second, outputs[j].second))
+                throw UsageError(std::string(outputs[i].first) + " and " + outputs[j].first + " are both '" +
+                                 outputs[j].second + "': give each its own name");
 }
 
 // A progress bar on stderr, shown only on a terminal and only for renders that last.
 class ProgressBar {
 public:
     explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(2)) {}
-    ~ProgressBar() {
-        if (shown_) std::fputs("\r\033[K", stderr);
+    ~ProgressBar() { finish(); }
+    /// Clears the bar's line, so that what is printed next starts a line of its own.
+    void finish() {
+        if (shown_.exchange(false)) std::fputs("\r\033[K", stderr);
+        enabled_ = false;
     }
     void update(double fraction) {
         if (!enabled_ || timer_.elapsed_ms() < 1000) return;
@@ -173,6 +210,9 @@ int run_render(const CliOptions& options) {
     const int threads = options.threads > 0 ? options.threads : hardware_threads();
     for (const std::string& path : {options.output_path, options.depth_path, options.normals_path})
         check_output_path(path, {options.scene_path}, "the scene file");
+    check_outputs_differ({{"the image", options.output_path},
+                          {options.mit_form ? "-depth" : "--depth", options.depth_path},
+                          {options.mit_form ? "-normals" : "--normals", options.normals_path}});
     const LoadedScene loaded = load_and_build(options, threads);
     const Scene& scene = loaded.scene;
 
@@ -199,17 +239,22 @@ int run_render(const CliOptions& options) {
     request.normals = !options.normals_path.empty();
     RenderStats stats;
     const FrameImages images = render_frame_rgb8(scene, render, request, &stats);
+    // Written together: a failure (a full disk) before the last rename leaves every output as it was.
+    std::vector<std::pair<std::string, std::vector<uint8_t>>> files;
     for (const auto& [path, image] : {std::pair<const std::string&, const ImageRgb8&>{options.output_path, images.color},
                                       {options.depth_path, images.depth},
                                       {options.normals_path, images.normals}}) {
         if (path.empty()) continue;
         if (render.has_crop && image_format_for_path(path) == ImageFormat::Ppm) {
             const CropWindow& c = render.crop;
-            write_crop_piece(path, image, CropPlacement{c.x0, c.y0, c.x1, c.y1, scene.camera.width, scene.camera.height});
+            files.emplace_back(path, encode_crop_piece(image, CropPlacement{c.x0, c.y0, c.x1, c.y1, scene.camera.width,
+                                                                            scene.camera.height}));
         } else {
-            write_image(path, image);
+            files.emplace_back(path, encode_image_for_path(path, image));
         }
     }
+    progress.finish();  // the bar's line cleared before any warning
+    write_files_atomically(files);
     if (stats.truncated_samples > 0 && !options.quiet)
         std::fprintf(stderr,
                      "raycast: warning: %llu camera samples reached the limit of %u rays each, so their mirror and glass "

@@ -53,7 +53,11 @@ void write_crop_piece(const std::string& path, const ImageRgb8& image, const Cro
     const std::optional<ImageFormat> format = image_format_for_path(path);
     if (format != ImageFormat::Ppm)
         throw InputError(path, "a --crop piece must be written as .ppm: only PPM records the window for 'raycast merge'");
-    write_file_atomically(path, encode_ppm_with_comment(image, crop_comment(placement)));
+    write_file_atomically(path, encode_crop_piece(image, placement));
+}
+
+std::vector<uint8_t> encode_crop_piece(const ImageRgb8& image, const CropPlacement& placement) {
+    return encode_ppm_with_comment(image, crop_comment(placement));
 }
 
 CropPiece read_crop_piece(const std::string& path) {

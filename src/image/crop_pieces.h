@@ -31,6 +31,9 @@ std::string crop_comment(const CropPlacement& placement);
 /// not .ppm throws InputError: only PPM carries the placement.
 void write_crop_piece(const std::string& path, const ImageRgb8& image, const CropPlacement& placement);
 
+/// The bytes write_crop_piece writes: a binary PPM with the crop record in its header.
+std::vector<uint8_t> encode_crop_piece(const ImageRgb8& image, const CropPlacement& placement);
+
 /// Reads a piece; InputError(path, ...) if it is not a PPM with a valid, consistent placement.
 CropPiece read_crop_piece(const std::string& path);
 

@@ -641,7 +641,9 @@ int write_all(int fd, const std::vector<uint8_t>& bytes) {
 }
 
 // Readers of `path` see the old file or the new one, never a partial one, and a failure leaves the old one.
-void write_file_atomically_impl(const std::string& path, const std::vector<uint8_t>& bytes) {
+// Writes `bytes` to a fresh temporary file beside `path` (fsync'ed) and returns its name; on any
+// failure removes it and throws.
+std::string write_temporary(const std::string& path, const std::vector<uint8_t>& bytes) {
     const size_t slash = path.rfind('/');
     const std::string directory = slash == std::string::npos ? "" : path.substr(0, slash + 1);
     // Keep the temporary's name within NAME_MAX whatever the file name's length.
@@ -661,11 +663,34 @@ void write_file_atomically_impl(const std::string& path, const std::vector<uint8
     // Without fsync a crash soon after rename() could leave an empty file in place of both versions.
     if (error == 0 && ::fsync(fd) != 0) error = errno;
     if (::close(fd) != 0 && error == 0) error = errno;
-    if (error == 0 && ::rename(temporary.c_str(), path.c_str()) != 0) error = errno;
     if (error != 0) {
         ::unlink(temporary.c_str());
         throw cannot_write(path, error);
     }
+    return temporary;
+}
+
+// Every file's temporary first, then the renames: a full disk or a quota fails before any file
+// is replaced, so a run that reports failure leaves every output as it was (a rename, the last
+// step, rarely fails; then the temporaries left are removed).
+void write_files_atomically_impl(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files) {
+    std::vector<std::string> temporaries;
+    try {
+        for (const auto& [path, bytes] : files) temporaries.push_back(write_temporary(path, bytes));
+    } catch (...) {
+        for (const std::string& temporary : temporaries) ::unlink(temporary.c_str());
+        throw;
+    }
+    for (size_t i = 0; i < files.size(); ++i) {
+        if (::rename(temporaries[i].c_str(), files[i].first.c_str()) == 0) continue;
+        const int error = errno;
+        for (size_t j = i; j < files.size(); ++j) ::unlink(temporaries[j].c_str());
+        throw cannot_write(files[i].first, error);
+    }
+}
+
+void write_file_atomically_impl(const std::string& path, const std::vector<uint8_t>& bytes) {
+    write_files_atomically_impl({{path, bytes}});
 }
 
 std::vector<uint8_t> read_file_impl(const std::string& path) {
@@ -753,9 +778,7 @@ ImageRgb8 decode_image(const std::vector<uint8_t>& bytes, ImageFormat format, co
 }
 
 void write_image(const std::string& path, const ImageRgb8& image) {
-    const ImageFormat format = format_for_writing(path);
-    if (format == ImageFormat::Png && !png_supported()) throw InputError(path, kPngUnsupported);
-    write_file_atomically_impl(path, encode_image(image, format));
+    write_file_atomically_impl(path, encode_image_for_path(path, image));
 }
 
 ImageRgb8 read_image(const std::string& path) {
@@ -805,6 +828,16 @@ std::vector<std::string> ppm_header_comments(const std::vector<uint8_t>& bytes) 
 
 void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes) {
     write_file_atomically_impl(path, bytes);
+}
+
+void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files) {
+    write_files_atomically_impl(files);
+}
+
+std::vector<uint8_t> encode_image_for_path(const std::string& path, const ImageRgb8& image) {
+    const ImageFormat format = format_for_writing(path);
+    if (format == ImageFormat::Png && !png_supported()) throw InputError(path, kPngUnsupported);
+    return encode_image(image, format);
 }
 
 std::vector<uint8_t> read_file_bytes(const std::string& path) { return read_file_impl(path); }

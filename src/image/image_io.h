@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "image/image.h"
@@ -48,6 +49,15 @@ std::vector<std::string> ppm_header_comments(const std::vector<uint8_t>& bytes);
 /// The atomic write that write_image uses (temporary file, fsync, rename), for bytes already encoded.
 /// Throws InputError(path, "cannot write image: ...").
 void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes);
+
+/// Several files written together: every temporary first, then the renames, so that a failure
+/// (a full disk, say) before the renames leaves every file at its path as it was. Throws
+/// InputError(path, "cannot write image: ...") naming the file that failed.
+void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files);
+
+/// The bytes write_image would write to `path` (its format by extension). Throws InputError
+/// (PNG without libpng) or std::invalid_argument (no known extension), as write_image does.
+std::vector<uint8_t> encode_image_for_path(const std::string& path, const ImageRgb8& image);
 
 /// A whole file's bytes. Throws InputError(path, "cannot read image: ...").
 std::vector<uint8_t> read_file_bytes(const std::string& path);

@@ -892,6 +892,44 @@ TEST_F(ImageFileTest, FailedWriteLeavesTheExistingFileUntouched) {
     EXPECT_EQ(entries(), std::vector<std::string>{"out.bmp"});
 }
 
+// Files written together (an image and its --depth): when one fails, none is replaced. The first
+// had been written whole before the second failed (a full disk), so a run that reported failure
+// had still replaced the image.
+TEST_F(ImageFileTest, FilesWrittenTogetherAreAllReplacedOrNone) {
+    write_bytes(path("image.bmp"), bytes_of("old image"));
+    write_bytes(path("depth.bmp"), bytes_of("old depth"));
+    const std::vector<uint8_t> small = encode_image(small_image(), ImageFormat::Bmp);  // within the limit below
+    const std::vector<uint8_t> large = encode_image(ImageRgb8(200, 200), ImageFormat::Bmp);
+    ASSERT_LT(small.size(), 4096u);
+    struct rlimit saved {};
+    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
+    struct sigaction ignore {
+    }, saved_action{};
+    ignore.sa_handler = SIG_IGN;
+    ASSERT_EQ(::sigaction(SIGXFSZ, &ignore, &saved_action), 0);
+    struct rlimit limited = saved;
+    limited.rlim_cur = 4096;
+    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
+    std::string message = "no error";
+    try {
+        write_files_atomically({{path("image.bmp"), small}, {path("depth.bmp"), large}});
+    } catch (const InputError& error) {
+        message = error.diagnostics()[0].location.file + ": " + error.diagnostics()[0].message;
+    }
+    ::setrlimit(RLIMIT_FSIZE, &saved);
+    ::sigaction(SIGXFSZ, &saved_action, nullptr);
+
+    EXPECT_EQ(message, path("depth.bmp") + ": cannot write image: File too large");
+    EXPECT_EQ(read_bytes(path("image.bmp")), bytes_of("old image"));
+    EXPECT_EQ(read_bytes(path("depth.bmp")), bytes_of("old depth"));
+    EXPECT_EQ(entries(), (std::vector<std::string>{"depth.bmp", "image.bmp"}));
+    // Both fit: both are replaced.
+    write_files_atomically({{path("image.bmp"), small}, {path("depth.bmp"), large}});
+    EXPECT_EQ(read_bytes(path("image.bmp")), small);
+    EXPECT_EQ(read_bytes(path("depth.bmp")), large);
+    EXPECT_EQ(entries(), (std::vector<std::string>{"depth.bmp", "image.bmp"}));
+}
+
 TEST_F(ImageFileTest, FailedEncodeLeavesTheExistingFileUntouched) {
     write_bytes(path("out.tga"), bytes_of("old"));
     ImageRgb8 broken(2, 2);
