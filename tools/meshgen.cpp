@@ -3,11 +3,15 @@
 // SHAPE is bumpy-sphere (a closed, watertight mesh: every edge shared by two triangles),
 // terrain (a height field over [-1, 1]²) or torus. The count is a target: the mesh gets the
 // nearest count its grid allows, and the tool prints the exact one.
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -146,9 +150,13 @@ size_t triangle_count(const Mesh& mesh) {
     return count;
 }
 
-bool write_obj(const Mesh& mesh, const std::string& path, const std::string& header) {
-    std::FILE* file = std::fopen(path.c_str(), "wb");
-    if (!file) return false;
+// Writes the OBJ to a temporary file beside `path`, then renames it: a failed write (a full disk)
+// had left a mesh cut mid-line at `path`, and one cut at a line's end would load as a smaller
+// mesh with no error. Returns the error's text, or "" on success.
+std::string write_obj(const Mesh& mesh, const std::string& path, const std::string& header) {
+    const std::string temporary = path + ".tmp" + std::to_string(static_cast<long>(::getpid()));
+    std::FILE* file = std::fopen(temporary.c_str(), "wb");
+    if (!file) return std::strerror(errno);
     std::fprintf(file, "# %s\n", header.c_str());
     std::vector<char> buffer(1 << 20);
     std::setvbuf(file, buffer.data(), _IOFBF, buffer.size());
@@ -167,7 +175,22 @@ bool write_obj(const Mesh& mesh, const std::string& path, const std::string& hea
         }
         std::fputc('\n', file);
     }
-    return std::fclose(file) == 0;
+    int error = std::ferror(file) ? (errno != 0 ? errno : EIO) : 0;
+    if (std::fclose(file) != 0 && error == 0) error = errno;
+    if (error == 0 && std::rename(temporary.c_str(), path.c_str()) != 0) error = errno;
+    if (error == 0) return "";
+    std::remove(temporary.c_str());
+    return std::strerror(error);
+}
+
+// A number as a whole argument: "1e3junk", "0x100", "nan" and "inf" are refused (atof had read
+// them as 1000, 0, and a mesh of NaN vertices).
+bool read_number(const char* text, double& value) {
+    char* end = nullptr;
+    errno = 0;
+    value = std::strtod(text, &end);
+    return *text != '\0' && *end == '\0' && errno == 0 && std::isfinite(value) &&
+           std::strpbrk(text, "xXnN") == nullptr;  // no hexadecimal, no nan or inf
 }
 
 int usage() {
@@ -177,26 +200,46 @@ int usage() {
     return 2;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int generate(int argc, char** argv) {
     if (argc < 4) return usage();
     const std::string shape = argv[1];
-    const double target = std::atof(argv[2]);
+    double target = 0;
+    if (!read_number(argv[2], target) || !(target >= 8) || target > 2e8) {
+        std::fprintf(stderr, "raycast_meshgen: TRIANGLES must be a number from 8 to 200000000, got '%s'\n", argv[2]);
+        return 2;
+    }
     const std::string output = argv[3];
     uint64_t seed = 1;
-    bool quads = false, with_normals = false;
+    bool quads = false, with_normals = false, bumps_given = false;
     double amplitude = 0.04;
     for (int i = 4; i < argc; ++i) {
         const std::string arg = argv[i];
-        if (arg == "--seed" && i + 1 < argc) seed = std::strtoull(argv[++i], nullptr, 10);
-        else if (arg == "--quads") quads = true;
-        else if (arg == "--normals") with_normals = true;
-        else if (arg == "--bumps" && i + 1 < argc) amplitude = std::atof(argv[++i]);
-        else return usage();
+        if (arg == "--seed" && i + 1 < argc) {
+            const char* text = argv[++i];
+            char* end = nullptr;
+            errno = 0;
+            seed = std::strtoull(text, &end, 10);
+            if (*text < '0' || *text > '9' || *end != '\0' || errno != 0) {
+                std::fprintf(stderr, "raycast_meshgen: --seed needs a whole number from 0 to 2^64 - 1, got '%s'\n", text);
+                return 2;
+            }
+        } else if (arg == "--quads") {
+            quads = true;
+        } else if (arg == "--normals") {
+            with_normals = true;
+        } else if (arg == "--bumps" && i + 1 < argc) {
+            // Bumps are a fraction of the unit radius: past 1 the surface folds through itself.
+            if (!read_number(argv[++i], amplitude) || amplitude < 0 || amplitude > 1) {
+                std::fprintf(stderr, "raycast_meshgen: --bumps needs a number from 0 to 1, got '%s'\n", argv[i]);
+                return 2;
+            }
+            bumps_given = true;
+        } else {
+            return usage();
+        }
     }
-    if (!(target >= 8) || target > 2e8) {
-        std::fputs("raycast_meshgen: TRIANGLES must be between 8 and 200000000\n", stderr);
+    if (bumps_given && shape == "torus") {
+        std::fputs("raycast_meshgen: --bumps is for bumpy-sphere and terrain; a torus has none\n", stderr);
         return 2;
     }
     const Bumps bumps(seed, amplitude);
@@ -223,10 +266,23 @@ int main(int argc, char** argv) {
     const size_t triangles = triangle_count(mesh);
     const std::string header = "raycast_meshgen " + shape + " " + std::to_string(triangles) + " triangles, seed " +
                                std::to_string(seed);
-    if (!write_obj(mesh, output, header)) {
-        std::fprintf(stderr, "raycast_meshgen: cannot write %s\n", output.c_str());
+    const std::string error = write_obj(mesh, output, header);
+    if (!error.empty()) {
+        std::fprintf(stderr, "raycast_meshgen: cannot write %s: %s\n", output.c_str(), error.c_str());
         return 1;
     }
     std::printf("%s: %zu vertices, %zu triangles\n", output.c_str(), mesh.positions.size() / 3, triangles);
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        return generate(argc, argv);
+    } catch (const std::bad_alloc&) {
+        // About 80 bytes a triangle while the mesh is made: 2e8 triangles need some 16 GB.
+        std::fputs("raycast_meshgen: error: out of memory: ask for fewer triangles\n", stderr);
+        return 1;
+    }
 }

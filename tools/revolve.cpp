@@ -6,6 +6,10 @@
 // order) is replaced by `TriangleMesh { obj_file "OUTPUT.revK.obj" }`, and those OBJ files beside
 // it, with the surface's analytic normals at the vertices: N steps of the profile's parameter
 // (default 256) by M steps around the axis (default 256). Everything else is copied byte for byte.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -15,6 +19,7 @@
 
 #include "base/error.h"
 #include "base/limits.h"
+#include "base/write_file.h"
 #include "geometry/rev_surface.h"
 #include "sceneio/lexer.h"
 #include "sceneio/load_scene.h"
@@ -83,7 +88,8 @@ int run(int argc, char** argv) {
         }
     }
     // Each option alone may be 100000, but not both: 10^10 vertices would not fit in memory, nor
-    // their numbers in an OBJ index. 2^24 vertices a surface is about a gigabyte of mesh.
+    // their numbers in an OBJ index. 2^24 vertices a surface is about a gigabyte of mesh in
+    // memory, and its OBJ file some 3 GB.
     constexpr long long kMaxVertices = 1LL << 24;
     const long long vertices = (static_cast<long long>(along) + 1) * around;
     if (vertices > kMaxVertices) {
@@ -93,6 +99,25 @@ int run(int argc, char** argv) {
                      along, around, vertices, kMaxVertices);
         return 2;
     }
+    // Checked before any file is written: the output must not be the scene (its curves were
+    // lost), its name must fit in the scene's quoted obj_file names, and its folder must take it
+    // (the OBJ files, gigabytes, had been written before a failure to write the scene).
+    struct stat scene_info, output_info;
+    if (output == scene || (::stat(scene.c_str(), &scene_info) == 0 && ::stat(output.c_str(), &output_info) == 0 &&
+                            scene_info.st_dev == output_info.st_dev && scene_info.st_ino == output_info.st_ino)) {
+        std::fprintf(stderr, "raycast_revolve: OUTPUT '%s' is the scene itself: choose another name\n", output.c_str());
+        return 2;
+    }
+    if (base_name(output).find_first_of("\"\n\r") != std::string::npos || base_name(output).empty()) {
+        std::fprintf(stderr, "raycast_revolve: OUTPUT '%s' cannot name the meshes in the scene it writes: use a name "
+                             "without quotes\n", output.c_str());
+        return 2;
+    }
+    const size_t slash = output.find_last_of('/');
+    const std::string folder = slash == std::string::npos ? "." : (slash == 0 ? "/" : output.substr(0, slash));
+    if (::access(folder.c_str(), W_OK) != 0)
+        throw InputError(output, "cannot write the scene: the folder '" + folder + "' " +
+                                     (errno == ENOENT ? std::string("does not exist") : std::strerror(errno)));
     const std::string text = read_text_file(scene, "scene file", kMaxSceneFileBytes);
     const SceneDesc desc = parse_scene(text, scene);
     std::vector<const Curve*> profiles;
@@ -112,10 +137,7 @@ int run(int argc, char** argv) {
         result.replace(spans[k].begin, spans[k].end - spans[k].begin,
                        "TriangleMesh { obj_file \"" + base_name(obj) + "\" }");
     }
-    std::FILE* file = std::fopen(output.c_str(), "wb");
-    if (!file) throw InputError(output, "cannot write the scene");
-    const bool written = std::fwrite(result.data(), 1, result.size(), file) == result.size();
-    if (std::fclose(file) != 0 || !written) throw InputError(output, "cannot write the scene");
+    write_file_atomically(output, std::string_view(result), "the scene");
     std::printf("raycast_revolve: %zu surfaces, %zu triangles (%d x %d each)\n", profiles.size(), triangles, along,
                 around);
     return 0;

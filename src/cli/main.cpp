@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "base/write_file.h"
 #include "base/parallel.h"
 #include "base/timer.h"
 #include "cli/cli_options.h"
@@ -254,7 +255,7 @@ int run_render(const CliOptions& options) {
         }
     }
     progress.finish();  // the bar's line cleared before any warning
-    write_files_atomically(files);
+    write_files_atomically(files, "image");
     if (stats.truncated_samples > 0 && !options.quiet)
         std::fprintf(stderr,
                      "raycast: warning: %llu camera samples reached the limit of %u rays each, so their mirror and glass "

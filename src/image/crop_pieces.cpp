@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "base/error.h"
+#include "base/write_file.h"
 #include "base/limits.h"
 #include "base/parse_number.h"
 #include "image/image_io.h"
@@ -53,7 +54,7 @@ void write_crop_piece(const std::string& path, const ImageRgb8& image, const Cro
     const std::optional<ImageFormat> format = image_format_for_path(path);
     if (format != ImageFormat::Ppm)
         throw InputError(path, "a --crop piece must be written as .ppm: only PPM records the window for 'raycast merge'");
-    write_file_atomically(path, encode_crop_piece(image, placement));
+    write_file_atomically(path, encode_crop_piece(image, placement), "image");
 }
 
 std::vector<uint8_t> encode_crop_piece(const ImageRgb8& image, const CropPlacement& placement) {

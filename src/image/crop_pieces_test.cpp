@@ -8,6 +8,7 @@
 #include <string>
 
 #include "base/error.h"
+#include "base/write_file.h"
 #include "image/image_io.h"
 
 namespace raycast {
@@ -119,7 +120,7 @@ TEST(CropPiecesTest, PlainPpmIsNotAPiece) {
 TEST(CropPiecesTest, RecordThatDisagreesWithTheImageSizeIsRefused) {
     const std::string path = temp_path("liar.ppm");
     // The record claims a 5x5 window, the pixels are 4x4.
-    write_file_atomically(path, encode_ppm_with_comment(numbered_frame(4, 4), "raycast-crop 0,0,5,5 of 8x8"));
+    write_file_atomically(path, encode_ppm_with_comment(numbered_frame(4, 4), "raycast-crop 0,0,5,5 of 8x8"), "image");
     try {
         read_crop_piece(path);
         ADD_FAILURE() << "a piece whose size disagrees with its window was accepted";
@@ -138,7 +139,7 @@ TEST(CropPiecesTest, MalformedRecordsAreRefused) {
                                "raycast-crop 0,0,4,4 of 16384x16384", "raycast-crop  0,0,4,4 of 4x4",
                                "raycast-crop 0, 0,4,4 of 4x4", "raycast-crop 0,0,4,4 of 4x4 ", "raycast-crop 0,0,4,4 of 4x"}) {
         const std::string path = temp_path("bad.ppm");
-        write_file_atomically(path, encode_ppm_with_comment(numbered_frame(4, 4), record));
+        write_file_atomically(path, encode_ppm_with_comment(numbered_frame(4, 4), record), "image");
         try {
             read_crop_piece(path);
             ADD_FAILURE() << "accepted: " << record;
@@ -150,7 +151,7 @@ TEST(CropPiecesTest, MalformedRecordsAreRefused) {
     }
     // The record written for a piece of the largest frame reads back.
     const std::string path = temp_path("largest.ppm");
-    write_file_atomically(path, encode_ppm_with_comment(numbered_frame(4, 4), "raycast-crop 8188,0,8192,4 of 8192x8192"));
+    write_file_atomically(path, encode_ppm_with_comment(numbered_frame(4, 4), "raycast-crop 8188,0,8192,4 of 8192x8192"), "image");
     EXPECT_EQ(read_crop_piece(path).placement.x0, 8188);
     std::remove(path.c_str());
 }

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "base/error.h"
+#include "base/write_file.h"
 
 #ifdef RAYCAST_HAVE_PNG
 #include <png.h>
@@ -622,77 +623,6 @@ ImageFormat format_for_writing(const std::string& path) {
     return *format;
 }
 
-InputError cannot_write(const std::string& path, int error) {
-    return InputError(path, std::string("cannot write image: ") + std::strerror(error));
-}
-
-// Returns 0, or the errno of the failed write.
-int write_all(int fd, const std::vector<uint8_t>& bytes) {
-    size_t done = 0;
-    while (done < bytes.size()) {
-        const ssize_t written = ::write(fd, bytes.data() + done, bytes.size() - done);
-        if (written < 0) {
-            if (errno == EINTR) continue;
-            return errno;
-        }
-        done += static_cast<size_t>(written);
-    }
-    return 0;
-}
-
-// Readers of `path` see the old file or the new one, never a partial one, and a failure leaves the old one.
-// Writes `bytes` to a fresh temporary file beside `path` (fsync'ed) and returns its name; on any
-// failure removes it and throws.
-std::string write_temporary(const std::string& path, const std::vector<uint8_t>& bytes) {
-    const size_t slash = path.rfind('/');
-    const std::string directory = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-    // Keep the temporary's name within NAME_MAX whatever the file name's length.
-    const std::string base = (slash == std::string::npos ? path : path.substr(slash + 1)).substr(0, 100);
-    static std::atomic<unsigned> counter{0};
-    std::string temporary;
-    int fd = -1;
-    // O_EXCL with a fresh name, rather than mkstemp, so the file gets the usual umask-based permissions.
-    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
-        temporary =
-            directory + "." + base + string_printf(".%ld.%u.tmp", static_cast<long>(::getpid()), counter.fetch_add(1));
-        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno != EEXIST) break;
-    }
-    if (fd < 0) throw cannot_write(path, errno);
-    int error = write_all(fd, bytes);
-    // Without fsync a crash soon after rename() could leave an empty file in place of both versions.
-    if (error == 0 && ::fsync(fd) != 0) error = errno;
-    if (::close(fd) != 0 && error == 0) error = errno;
-    if (error != 0) {
-        ::unlink(temporary.c_str());
-        throw cannot_write(path, error);
-    }
-    return temporary;
-}
-
-// Every file's temporary first, then the renames: a full disk or a quota fails before any file
-// is replaced, so a run that reports failure leaves every output as it was (a rename, the last
-// step, rarely fails; then the temporaries left are removed).
-void write_files_atomically_impl(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files) {
-    std::vector<std::string> temporaries;
-    try {
-        for (const auto& [path, bytes] : files) temporaries.push_back(write_temporary(path, bytes));
-    } catch (...) {
-        for (const std::string& temporary : temporaries) ::unlink(temporary.c_str());
-        throw;
-    }
-    for (size_t i = 0; i < files.size(); ++i) {
-        if (::rename(temporaries[i].c_str(), files[i].first.c_str()) == 0) continue;
-        const int error = errno;
-        for (size_t j = i; j < files.size(); ++j) ::unlink(temporaries[j].c_str());
-        throw cannot_write(files[i].first, error);
-    }
-}
-
-void write_file_atomically_impl(const std::string& path, const std::vector<uint8_t>& bytes) {
-    write_files_atomically_impl({{path, bytes}});
-}
-
 std::vector<uint8_t> read_file_impl(const std::string& path) {
     auto cannot_read = [&path](int error) {
         return InputError(path, std::string("cannot read image: ") + std::strerror(error));
@@ -778,7 +708,7 @@ ImageRgb8 decode_image(const std::vector<uint8_t>& bytes, ImageFormat format, co
 }
 
 void write_image(const std::string& path, const ImageRgb8& image) {
-    write_file_atomically_impl(path, encode_image_for_path(path, image));
+    write_file_atomically(path, encode_image_for_path(path, image), "image");
 }
 
 ImageRgb8 read_image(const std::string& path) {
@@ -824,14 +754,6 @@ std::vector<std::string> ppm_header_comments(const std::vector<uint8_t>& bytes) 
         }
     }
     return comments;
-}
-
-void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes) {
-    write_file_atomically_impl(path, bytes);
-}
-
-void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files) {
-    write_files_atomically_impl(files);
 }
 
 std::vector<uint8_t> encode_image_for_path(const std::string& path, const ImageRgb8& image) {

@@ -46,15 +46,6 @@ std::vector<uint8_t> encode_ppm_with_comment(const ImageRgb8& image, const std::
 /// anything that is not a PPM file.
 std::vector<std::string> ppm_header_comments(const std::vector<uint8_t>& bytes);
 
-/// The atomic write that write_image uses (temporary file, fsync, rename), for bytes already encoded.
-/// Throws InputError(path, "cannot write image: ...").
-void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes);
-
-/// Several files written together: every temporary first, then the renames, so that a failure
-/// (a full disk, say) before the renames leaves every file at its path as it was. Throws
-/// InputError(path, "cannot write image: ...") naming the file that failed.
-void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files);
-
 /// The bytes write_image would write to `path` (its format by extension). Throws InputError
 /// (PNG without libpng) or std::invalid_argument (no known extension), as write_image does.
 std::vector<uint8_t> encode_image_for_path(const std::string& path, const ImageRgb8& image);

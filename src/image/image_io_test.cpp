@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "base/write_file.h"
 
 namespace raycast {
 namespace {
@@ -912,7 +913,7 @@ TEST_F(ImageFileTest, FilesWrittenTogetherAreAllReplacedOrNone) {
     ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
     std::string message = "no error";
     try {
-        write_files_atomically({{path("image.bmp"), small}, {path("depth.bmp"), large}});
+        write_files_atomically({{path("image.bmp"), small}, {path("depth.bmp"), large}}, "image");
     } catch (const InputError& error) {
         message = error.diagnostics()[0].location.file + ": " + error.diagnostics()[0].message;
     }
@@ -924,7 +925,7 @@ TEST_F(ImageFileTest, FilesWrittenTogetherAreAllReplacedOrNone) {
     EXPECT_EQ(read_bytes(path("depth.bmp")), bytes_of("old depth"));
     EXPECT_EQ(entries(), (std::vector<std::string>{"depth.bmp", "image.bmp"}));
     // Both fit: both are replaced.
-    write_files_atomically({{path("image.bmp"), small}, {path("depth.bmp"), large}});
+    write_files_atomically({{path("image.bmp"), small}, {path("depth.bmp"), large}}, "image");
     EXPECT_EQ(read_bytes(path("image.bmp")), small);
     EXPECT_EQ(read_bytes(path("depth.bmp")), large);
     EXPECT_EQ(entries(), (std::vector<std::string>{"depth.bmp", "image.bmp"}));

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "base/error.h"
+#include "base/write_file.h"
 
 namespace raycast {
 
@@ -37,11 +38,9 @@ std::string obj_text(const TriangleMesh& mesh) {
 
 void write_obj_file(const std::string& path, const TriangleMesh& mesh) {
     const std::string text = obj_text(mesh);
-    std::FILE* file = std::fopen(path.c_str(), "wb");
-    if (!file) throw InputError(path, std::string("cannot write OBJ file: ") + std::strerror(errno));
-    const bool written = std::fwrite(text.data(), 1, text.size(), file) == text.size();
-    const bool closed = std::fclose(file) == 0;
-    if (!written || !closed) throw InputError(path, "cannot write OBJ file: the disk may be full");
+    // Atomically: a failed write (a full disk) left a mesh cut mid-line, and one cut at a line's
+    // end would load as a smaller mesh with no error.
+    write_file_atomically(path, std::string_view(text), "OBJ file");
 }
 
 }  // namespace raycast

@@ -1,0 +1,109 @@
+#include "base/write_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+
+#include "base/error.h"
+
+namespace raycast {
+namespace {
+
+// A file to write: where, and its bytes (not owned).
+struct Pending {
+    const std::string& path;
+    std::string_view bytes;
+};
+
+InputError cannot_write(const std::string& path, const char* what, int error) {
+    return InputError(path, std::string("cannot write ") + what + ": " + std::strerror(error));
+}
+
+// Returns 0, or the errno of the failed write.
+int write_all(int fd, std::string_view bytes) {
+    size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t written = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (written < 0) {
+            if (errno == EINTR) continue;
+            return errno;
+        }
+        done += static_cast<size_t>(written);
+    }
+    return 0;
+}
+
+// Writes the bytes to a fresh temporary file beside the path (fsync'ed) and returns its name; on
+// any failure removes it and throws.
+std::string write_temporary(const Pending& file, const char* what) {
+    const std::string& path = file.path;
+    const size_t slash = path.rfind('/');
+    const std::string directory = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+    // Keep the temporary's name within NAME_MAX whatever the file name's length.
+    const std::string base = (slash == std::string::npos ? path : path.substr(slash + 1)).substr(0, 100);
+    static std::atomic<unsigned> counter{0};
+    std::string temporary;
+    int fd = -1;
+    // O_EXCL with a fresh name, rather than mkstemp, so the file gets the usual umask-based permissions.
+    for (int attempt = 0; attempt < 100 && fd < 0; ++attempt) {
+        temporary =
+            directory + "." + base + string_printf(".%ld.%u.tmp", static_cast<long>(::getpid()), counter.fetch_add(1));
+        fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST) break;
+    }
+    if (fd < 0) throw cannot_write(path, what, errno);
+    int error = write_all(fd, file.bytes);
+    // Without fsync a crash soon after rename() could leave an empty file in place of both versions.
+    if (error == 0 && ::fsync(fd) != 0) error = errno;
+    if (::close(fd) != 0 && error == 0) error = errno;
+    if (error != 0) {
+        ::unlink(temporary.c_str());
+        throw cannot_write(path, what, error);
+    }
+    return temporary;
+}
+
+// Every file's temporary first, then the renames: a full disk or a quota fails before any file
+// is replaced, so a run that reports failure leaves every output as it was (a rename, the last
+// step, rarely fails; then the temporaries left are removed).
+void write_together(const std::vector<Pending>& files, const char* what) {
+    std::vector<std::string> temporaries;
+    try {
+        for (const Pending& file : files) temporaries.push_back(write_temporary(file, what));
+    } catch (...) {
+        for (const std::string& temporary : temporaries) ::unlink(temporary.c_str());
+        throw;
+    }
+    for (size_t i = 0; i < files.size(); ++i) {
+        if (::rename(temporaries[i].c_str(), files[i].path.c_str()) == 0) continue;
+        const int error = errno;
+        for (size_t j = i; j < files.size(); ++j) ::unlink(temporaries[j].c_str());
+        throw cannot_write(files[i].path, what, error);
+    }
+}
+
+std::string_view view_of(const std::vector<uint8_t>& bytes) {
+    return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
+}
+
+}  // namespace
+
+void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files,
+                            const char* what) {
+    std::vector<Pending> pending;
+    for (const auto& [path, bytes] : files) pending.push_back({path, view_of(bytes)});
+    write_together(pending, what);
+}
+
+void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes, const char* what) {
+    write_together({{path, view_of(bytes)}}, what);
+}
+
+void write_file_atomically(const std::string& path, std::string_view text, const char* what) {
+    write_together({{path, text}}, what);
+}
+
+}  // namespace raycast

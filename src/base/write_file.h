@@ -1,0 +1,25 @@
+// Writing files so that a reader sees the old file or the new one, never part of one, and a
+// failure leaves the old one: a temporary file beside it (fsync'ed), then rename(). Several files
+// are written together: every temporary first, then the renames. Used for images, crop pieces and
+// the OBJ files and scenes the tools write.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace raycast {
+
+/// Writes each (path, bytes) atomically, all of them together: a failure before the renames (a
+/// full disk, a quota) replaces none. Throws InputError(path, "cannot write <what>: <reason>"),
+/// naming the file that failed; `what` is "image", "OBJ file", ...
+void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files,
+                            const char* what);
+
+/// One file, as above.
+void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes, const char* what);
+void write_file_atomically(const std::string& path, std::string_view text, const char* what);
+
+}  // namespace raycast

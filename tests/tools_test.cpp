@@ -1,0 +1,91 @@
+// The helper programs beside raycast, run as a user runs them: raycast_meshgen (seeded OBJ meshes)
+// and raycast_revolve (a scene's surfaces of revolution as meshes). Their mistakes are usage errors
+// (exit 2) or write errors (exit 1) that leave no file behind and no input changed.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+#include "test_support.h"
+
+namespace raycast::test {
+namespace {
+
+RunResult run_tool(const std::string& tool, const std::string& arguments, const std::string& dir) {
+    return run_command("cd '" + dir + "' && '" + std::string(RAYCAST_BINARY_DIR) + "/" + tool + "' " + arguments +
+                       " 2>&1");
+}
+
+// Numbers are read whole: atof had taken "1e3junk" as 1000, "0x100" as 0 (then the minimum), and
+// --bumps nan had written a mesh of NaN vertices that raycast refuses.
+TEST(ToolsTest, MeshgenRefusesMalformedNumbers) {
+    const std::string dir = temp_dir("tools/meshgen_numbers");
+    const std::pair<const char*, const char*> cases[] = {
+        {"torus 1e3junk a.obj", "raycast_meshgen: TRIANGLES must be a number from 8 to 200000000, got '1e3junk'"},
+        {"torus 0x100 a.obj", "raycast_meshgen: TRIANGLES must be a number from 8 to 200000000, got '0x100'"},
+        {"torus 7 a.obj", "raycast_meshgen: TRIANGLES must be a number from 8 to 200000000, got '7'"},
+        {"bumpy-sphere 1000 a.obj --bumps nan", "raycast_meshgen: --bumps needs a number from 0 to 1, got 'nan'"},
+        {"terrain 1000 a.obj --bumps inf", "raycast_meshgen: --bumps needs a number from 0 to 1, got 'inf'"},
+        {"terrain 1000 a.obj --bumps 1e300", "raycast_meshgen: --bumps needs a number from 0 to 1, got '1e300'"},
+        {"torus 1000 a.obj --bumps 0.1", "raycast_meshgen: --bumps is for bumpy-sphere and terrain; a torus has none"},
+        {"torus 1000 a.obj --seed -1", "raycast_meshgen: --seed needs a whole number from 0 to 2^64 - 1, got '-1'"},
+    };
+    for (const auto& [arguments, message] : cases) {
+        const RunResult run = run_tool("raycast_meshgen", arguments, dir);
+        EXPECT_EQ(run.exit_code, 2) << arguments;
+        EXPECT_EQ(run.output, std::string(message) + "\n") << arguments;
+    }
+    EXPECT_TRUE(files_in(dir).empty());
+}
+
+// The mesh is written to a temporary file and renamed: a failed write leaves nothing at the path
+// (it had left a mesh cut mid-line). What it writes loads in raycast with the count it prints.
+TEST(ToolsTest, MeshgenWritesWholeMeshesOrNone) {
+    const std::string dir = temp_dir("tools/meshgen_write");
+    const RunResult missing = run_tool("raycast_meshgen", "terrain 1000 no_such_folder/a.obj", dir);
+    EXPECT_EQ(missing.exit_code, 1);
+    EXPECT_EQ(missing.output, "raycast_meshgen: cannot write no_such_folder/a.obj: No such file or directory\n");
+    EXPECT_TRUE(files_in(dir).empty());
+    const RunResult made = run_tool("raycast_meshgen", "bumpy-sphere 1000 m.obj --bumps 0.1 --seed 7", dir);
+    ASSERT_EQ(made.exit_code, 0) << made.output;
+    EXPECT_EQ(made.output, "m.obj: 498 vertices, 992 triangles\n");
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"m.obj"}));
+    write_file(dir + "/s.txt",
+               "PerspectiveCamera { center 0 0 5 direction 0 0 -1 up 0 1 0 angle 30 width 8 height 8 }\n"
+               "Lights { numLights 1 DirectionalLight { direction 0 0 -1 color 1 1 1 } }\n"
+               "Materials { numMaterials 1 Material { diffuseColor 1 1 1 } }\n"
+               "Group { numObjects 1 MaterialIndex 0 TriangleMesh { obj_file m.obj } }\n");
+    const RunResult rendered = run_raycast("s.txt o.ppm --stats -q", dir);
+    ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
+    EXPECT_NE(rendered.output.find(" triangles=992 "), std::string::npos) << rendered.output;
+}
+
+// raycast_revolve checks its output before it writes anything: the scene itself as OUTPUT had
+// been overwritten with the copy (every curve lost), a quote in the name made a scene raycast
+// could not read, and a missing folder was found only after gigabytes of OBJ files were written.
+TEST(ToolsTest, RevolveChecksItsOutputBeforeWritingAnything) {
+    const std::string dir = temp_dir("tools/revolve");
+    const std::string scene = read_file(std::string(RAYCAST_SOURCE_DIR) + "/scenes/revolution.txt");
+    ASSERT_NE(scene.find("RevSurface"), std::string::npos);
+    write_file(dir + "/s.txt", scene);
+    const std::pair<const char*, const char*> cases[] = {
+        {"s.txt s.txt", "raycast_revolve: OUTPUT 's.txt' is the scene itself: choose another name"},
+        {"s.txt ./s.txt", "raycast_revolve: OUTPUT './s.txt' is the scene itself: choose another name"},
+        {"s.txt 'it\"s.txt'",
+         "raycast_revolve: OUTPUT 'it\"s.txt' cannot name the meshes in the scene it writes: use a name without quotes"},
+    };
+    for (const auto& [arguments, message] : cases) {
+        const RunResult run = run_tool("raycast_revolve", std::string(arguments) + " --along 8 --around 8", dir);
+        EXPECT_EQ(run.exit_code, 2) << arguments;
+        EXPECT_EQ(run.output, std::string(message) + "\n") << arguments;
+    }
+    const RunResult missing = run_tool("raycast_revolve", "s.txt no_such_folder/o.txt --along 8 --around 8", dir);
+    EXPECT_EQ(missing.exit_code, 1);
+    EXPECT_EQ(missing.output,
+              "no_such_folder/o.txt: error: cannot write the scene: the folder 'no_such_folder' does not exist\n");
+    EXPECT_EQ(read_file(dir + "/s.txt"), scene);
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt"}));
+}
+
+}  // namespace
+}  // namespace raycast::test
