@@ -175,6 +175,31 @@ TEST(CliTest, AnOutputNameTooLongForItsFolderIsRefusedBeforeTheRender) {
     EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj"}));
 }
 
+// Mirrors and glass deep in --bounces can take hours: the first camera sample that reaches its ray
+// limit makes a note at once (once), and the count comes at the end; -q says neither.
+TEST(CliTest, ARenderReachingTheRayLimitSaysSoAtOnce) {
+    const std::string dir = temp_dir("cli/ray_limit");
+    write_file(dir + "/m.txt",
+               "PerspectiveCamera { center 0 0 0.5 direction 0 0 -1 up 0 1 0 angle 30 width 4 height 4 }\n"
+               "Lights { numLights 1 PointLight { position 0 0.5 0 color 1 1 1 } }\n"
+               "Background { color 0 0 0 }\n"
+               "Materials { numMaterials 2 Material { diffuseColor 0.1 0.1 0.1 reflectiveColor 0.9 0.9 0.9 }\n"
+               "  Material { diffuseColor 0 0 0 reflectiveColor 0.5 0.5 0.5 transparentColor 0.5 0.5 0.5 "
+               "indexOfRefraction 1.5 } }\n"
+               "Group { numObjects 3 MaterialIndex 0 Plane { normal 0 0 1 offset -2 } Plane { normal 0 0 -1 offset -2 }\n"
+               "  MaterialIndex 1 Sphere { center 0 0 -1 radius 0.5 } }\n");
+    const RunResult run = run_raycast("m.txt o.ppm --bounces 40 --weight 0", dir);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    const std::vector<std::string> lines = lines_of(run.output);
+    ASSERT_EQ(lines.size(), 2u) << run.output;
+    EXPECT_EQ(lines[0],
+              "raycast: note: camera samples are reaching their limit of 65536 rays (mirror and glass rays 40 bounces "
+              "deep), so this render may take long: lower --bounces, or raise --weight");
+    EXPECT_EQ(lines[1].rfind("raycast: warning: ", 0), 0u) << lines[1];
+    EXPECT_NE(lines[1].find("camera samples reached the limit of 65536 rays each"), std::string::npos) << lines[1];
+    EXPECT_EQ(run_raycast("m.txt q.ppm --bounces 40 --weight 0 -q", dir).output, "");
+}
+
 TEST(CliTest, MitFormRendersAtTheSizeGiven) {
     const std::string dir = scene_dir("mit_form");
     const RunResult run = run_raycast("-input s.txt -size 64 48 -output o.ppm", dir);

@@ -119,6 +119,12 @@ class ProgressBar {
 public:
     explicit ProgressBar(bool enabled) : enabled_(enabled && ::isatty(2)) {}
     ~ProgressBar() { finish(); }
+    /// A line for the user while the bar may be showing: the bar's line is cleared first, and
+    /// the bar goes on below.
+    void note(const std::string& text) {
+        std::fprintf(stderr, "%s%s\n", shown_.load() ? "\r\033[K" : "", text.c_str());
+        std::fflush(stderr);
+    }
     /// Clears the bar's line, so that what is printed next starts a line of its own.
     void finish() {
         if (shown_.exchange(false)) std::fputs("\r\033[K", stderr);
@@ -232,6 +238,18 @@ int run_render(const CliOptions& options) {
     }
     ProgressBar progress(!options.quiet);
     render.progress = [&progress](double fraction) { progress.update(fraction); };
+    if (!options.quiet) {
+        // Said at once: such a render can take hours, and the count of samples cut short comes
+        // only at the end.
+        const char* bounces = options.mit_form ? "-bounces" : "--bounces";
+        const char* weight = options.mit_form ? "-weight" : "--weight";
+        render.reaching_ray_limit = [&progress, bounces, weight, limit = render.bounces] {
+            progress.note(string_printf("raycast: note: camera samples are reaching their limit of %u rays (mirror and "
+                                        "glass rays %d bounces deep), so this render may take long: lower %s, or "
+                                        "raise %s",
+                                        kMaxRaysPerSample, limit, bounces, weight));
+        };
+    }
 
     // One pass traces the camera rays once for every image asked for.
     FrameRequest request;

@@ -164,6 +164,7 @@ public:
         std::vector<WorkerState> workers(static_cast<size_t>(threads));
         std::atomic<size_t> tiles_done{0};
         std::atomic<bool> stopped{false};
+        std::atomic<bool> told_ray_limit{false};
         parallel_for(tile_count, threads, [&](size_t index, int worker) {
             if (stopped.load(std::memory_order_relaxed)) return;
             if (options_.cancelled && options_.cancelled()) {
@@ -179,6 +180,8 @@ public:
                 render_tile<true>(x0, y0, x1, y1, state);
             else
                 render_tile<false>(x0, y0, x1, y1, state);
+            if (options_.reaching_ray_limit && state.counts.truncated > 0 && !told_ray_limit.exchange(true))
+                options_.reaching_ray_limit();
             const size_t done = ++tiles_done;
             if (options_.progress) options_.progress(static_cast<double>(done) / static_cast<double>(tile_count));
         });

@@ -67,6 +67,10 @@ struct RenderOptions {
     bool skip_back_faces = true;
     /// Called now and then from the rendering threads with the fraction done (0..1).
     std::function<void(double)> progress;
+    /// Called once, from a rendering thread, when a camera sample first reaches kMaxRaysPerSample
+    /// (render/integrator.h): mirrors and glass deep in --bounces can make a render take hours,
+    /// and the count of such samples (RenderStats::truncated_samples) comes only at the end.
+    std::function<void()> reaching_ray_limit;
     /// Asked before each tile; once it returns true the rest of the image is left undone and
     /// RenderStats::cancelled is set (the viewer drops a render when a newer one is asked for).
     std::function<bool()> cancelled;
