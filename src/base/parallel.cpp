@@ -257,4 +257,11 @@ void call_with_stack(size_t stack_bytes, const std::function<void()>& work) {
     if (call.error) std::rethrow_exception(call.error);
 }
 
+void call_with_stack_for_depth(size_t levels, const std::function<void()>& work) {
+    if (levels <= kShallowRecursionLevels)
+        work();
+    else
+        call_with_stack(kDeepRecursionStackBytes, work);
+}
+
 }  // namespace raycast

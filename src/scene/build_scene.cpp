@@ -427,12 +427,27 @@ private:
     std::vector<Diagnostic> errors_;
 };
 
+// How many levels deep the object tree goes, found without recursion (the tree may be as deep
+// as the nesting limit).
+size_t tree_depth(const ObjectDesc& root) {
+    size_t deepest = 0;
+    std::vector<std::pair<const ObjectDesc*, size_t>> pending{{&root, 1}};
+    while (!pending.empty()) {
+        const auto [object, depth] = pending.back();
+        pending.pop_back();
+        deepest = std::max(deepest, depth);
+        for (const ObjectDesc& child : object->children) pending.push_back({&child, depth + 1});
+    }
+    return deepest;
+}
+
 }  // namespace
 
 Scene build_scene(SceneDesc desc, const SceneBuildOptions& options) {
-    // The builder walks the object tree recursively, one level per nested group or transform.
+    // The builder walks the object tree recursively, one level per nested group or transform:
+    // a deep tree gets a stack that holds it in any build.
     Scene scene;
-    call_with_stack(kDeepRecursionStackBytes, [&] {
+    call_with_stack_for_depth(desc.root ? tree_depth(*desc.root) : 0, [&] {
         scene = SceneBuilder(desc, options).build();
         desc = SceneDesc{};  // the tree's recursive destructor runs here too
     });

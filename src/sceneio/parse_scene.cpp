@@ -883,10 +883,11 @@ SceneDesc parse_scene(std::string_view file_text, const std::string& file_name) 
     // A binary file would make only a cascade of unknown keywords: one error says what it is.
     if (const std::optional<size_t> bad = find_non_text_byte(text))
         throw InputError({non_text_diagnostic(text, *bad, file_name)});
-    // The parser recurses once per nesting level (up to kMaxNestingDepth): give it a stack that
-    // holds that many levels in any build.
+    // The parser recurses once per nesting level (up to kMaxNestingDepth), and every level opens
+    // a brace: a text with many braces gets a stack that holds that many levels in any build.
     SceneDesc desc;
-    call_with_stack(kDeepRecursionStackBytes, [&] { desc = Parser(text, file_name).parse(); });
+    const size_t braces = static_cast<size_t>(std::count(text.begin(), text.end(), '{'));
+    call_with_stack_for_depth(braces, [&] { desc = Parser(text, file_name).parse(); });
     desc.source_text = std::string(text);
     return desc;
 }
