@@ -229,5 +229,18 @@ TEST(ParallelFor, WorksInAChildOfFork) {
     EXPECT_EQ(WEXITSTATUS(status), 0);
 }
 
+// Shallow work runs on the caller's own stack (a thread with a 128 MiB stack cost ~115 µs to
+// start); deeper work gets that thread, and its exception comes back here.
+TEST(CallWithStackForDepthTest, OnlyDeepWorkGetsAThreadOfItsOwn) {
+    const std::thread::id caller = std::this_thread::get_id();
+    std::thread::id ran_on;
+    call_with_stack_for_depth(kShallowRecursionLevels, [&] { ran_on = std::this_thread::get_id(); });
+    EXPECT_EQ(ran_on, caller);
+    call_with_stack_for_depth(kShallowRecursionLevels + 1, [&] { ran_on = std::this_thread::get_id(); });
+    EXPECT_NE(ran_on, caller);
+    EXPECT_THROW(call_with_stack_for_depth(1000, [] { throw std::runtime_error("deep"); }), std::runtime_error);
+    EXPECT_THROW(call_with_stack_for_depth(1, [] { throw std::runtime_error("shallow"); }), std::runtime_error);
+}
+
 }  // namespace
 }  // namespace raycast
