@@ -3,6 +3,7 @@
 // (exit 2) or write errors (exit 1) that leave no file behind and no input changed.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <set>
 #include <string>
 
@@ -50,6 +51,14 @@ TEST(ToolsTest, MeshgenWritesWholeMeshesOrNone) {
     ASSERT_EQ(made.exit_code, 0) << made.output;
     EXPECT_EQ(made.output, "m.obj: 498 vertices, 992 triangles\n");
     EXPECT_EQ(files_in(dir), (std::set<std::string>{"m.obj"}));
+    // Into a pipe it writes through (a rename would have put a plain file in the pipe's place).
+    const RunResult piped = run_command("cd '" + dir + "' && mkfifo p && (cat p > copy.obj &) && '" +
+                                        std::string(RAYCAST_BINARY_DIR) +
+                                        "/raycast_meshgen' bumpy-sphere 1000 p --bumps 0.1 --seed 7 2>&1 && "
+                                        "sleep 0.2 && test -p p && rm p");
+    EXPECT_EQ(piped.exit_code, 0) << piped.output;
+    EXPECT_EQ(read_file(dir + "/copy.obj"), read_file(dir + "/m.obj"));
+    std::remove((dir + "/copy.obj").c_str());
     write_file(dir + "/s.txt",
                "PerspectiveCamera { center 0 0 5 direction 0 0 -1 up 0 1 0 angle 30 width 8 height 8 }\n"
                "Lights { numLights 1 DirectionalLight { direction 0 0 -1 color 1 1 1 } }\n"
@@ -79,6 +88,16 @@ TEST(ToolsTest, RevolveChecksItsOutputBeforeWritingAnything) {
         EXPECT_EQ(run.exit_code, 2) << arguments;
         EXPECT_EQ(run.output, std::string(message) + "\n") << arguments;
     }
+    // A scene with classic Mac line breaks, which raycast reads, is turned as well.
+    std::string mac = scene;
+    for (char& c : mac)
+        if (c == '\n') c = '\r';
+    write_file(dir + "/mac.txt", mac);
+    const RunResult turned = run_tool("raycast_revolve", "mac.txt out.txt --along 8 --around 8", dir);
+    EXPECT_EQ(turned.exit_code, 0) << turned.output;
+    EXPECT_EQ(turned.output.rfind("raycast_revolve: 4 surfaces", 0), 0u) << turned.output;
+    for (const std::string& name : files_in(dir))
+        if (name != "s.txt") std::remove((dir + "/" + name).c_str());
     const RunResult missing = run_tool("raycast_revolve", "s.txt no_such_folder/o.txt --along 8 --around 8", dir);
     EXPECT_EQ(missing.exit_code, 1);
     EXPECT_EQ(missing.output,

@@ -3,6 +3,7 @@
 // SHAPE is bumpy-sphere (a closed, watertight mesh: every edge shared by two triangles),
 // terrain (a height field over [-1, 1]²) or torus. The count is a target: the mesh gets the
 // nearest count its grid allows, and the tool prints the exact one.
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -154,7 +155,16 @@ size_t triangle_count(const Mesh& mesh) {
 // had left a mesh cut mid-line at `path`, and one cut at a line's end would load as a smaller
 // mesh with no error. Returns the error's text, or "" on success.
 std::string write_obj(const Mesh& mesh, const std::string& path, const std::string& header) {
-    const std::string temporary = path + ".tmp" + std::to_string(static_cast<long>(::getpid()));
+    // A pipe or a device (/dev/stdout, >(gzip)) is written into: a rename would put a plain file
+    // in its place.
+    struct stat info;
+    const bool special = ::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode);
+    const size_t slash = path.rfind('/');
+    const std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+    const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+    // Within NAME_MAX whatever the name's length.
+    const std::string temporary =
+        special ? path : folder + "." + name.substr(0, 100) + ".tmp" + std::to_string(static_cast<long>(::getpid()));
     std::FILE* file = std::fopen(temporary.c_str(), "wb");
     if (!file) return std::strerror(errno);
     std::fprintf(file, "# %s\n", header.c_str());
@@ -177,9 +187,9 @@ std::string write_obj(const Mesh& mesh, const std::string& path, const std::stri
     }
     int error = std::ferror(file) ? (errno != 0 ? errno : EIO) : 0;
     if (std::fclose(file) != 0 && error == 0) error = errno;
-    if (error == 0 && std::rename(temporary.c_str(), path.c_str()) != 0) error = errno;
+    if (error == 0 && !special && std::rename(temporary.c_str(), path.c_str()) != 0) error = errno;
     if (error == 0) return "";
-    std::remove(temporary.c_str());
+    if (!special) std::remove(temporary.c_str());
     return std::strerror(error);
 }
 

@@ -24,6 +24,7 @@
 #include "sceneio/lexer.h"
 #include "sceneio/load_scene.h"
 #include "sceneio/parse_scene.h"
+#include "sceneio/text_check.h"
 #include "sceneio/write_obj.h"
 
 namespace raycast {
@@ -118,7 +119,9 @@ int run(int argc, char** argv) {
     if (::access(folder.c_str(), W_OK) != 0)
         throw InputError(output, "cannot write the scene: the folder '" + folder + "' " +
                                      (errno == ENOENT ? std::string("does not exist") : std::strerror(errno)));
-    const std::string text = read_text_file(scene, "scene file", kMaxSceneFileBytes);
+    // As the parser reads it (classic Mac line breaks as LF: one byte for one, so the spans hold).
+    std::string converted;
+    const std::string text(as_unix_text(read_text_file(scene, "scene file", kMaxSceneFileBytes), converted));
     const SceneDesc desc = parse_scene(text, scene);
     std::vector<const Curve*> profiles;
     if (desc.root) collect_profiles(*desc.root, profiles);

@@ -1,6 +1,7 @@
 #include "base/write_file.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -69,20 +70,42 @@ std::string write_temporary(const Pending& file, const char* what) {
 // Every file's temporary first, then the renames: a full disk or a quota fails before any file
 // is replaced, so a run that reports failure leaves every output as it was (a rename, the last
 // step, rarely fails; then the temporaries left are removed).
+// Whether `path` is something other than a plain file (a pipe, a terminal, /dev/null): written
+// into, not replaced by a rename, which would put a plain file in its place.
+bool is_special_file(const std::string& path) {
+    struct stat info;
+    return ::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode);
+}
+
+void write_in_place(const Pending& file, const char* what) {
+    const int fd = ::open(file.path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+    if (fd < 0) throw cannot_write(file.path, what, errno);
+    int error = write_all(fd, file.bytes);
+    if (::close(fd) != 0 && error == 0) error = errno;
+    if (error != 0) throw cannot_write(file.path, what, error);
+}
+
 void write_together(const std::vector<Pending>& files, const char* what) {
-    std::vector<std::string> temporaries;
+    std::vector<bool> special;
+    for (const Pending& file : files) special.push_back(is_special_file(file.path));
+    std::vector<std::string> temporaries(files.size());
     try {
-        for (const Pending& file : files) temporaries.push_back(write_temporary(file, what));
+        for (size_t i = 0; i < files.size(); ++i)
+            if (!special[i]) temporaries[i] = write_temporary(files[i], what);
     } catch (...) {
-        for (const std::string& temporary : temporaries) ::unlink(temporary.c_str());
+        for (const std::string& temporary : temporaries)
+            if (!temporary.empty()) ::unlink(temporary.c_str());
         throw;
     }
     for (size_t i = 0; i < files.size(); ++i) {
-        if (::rename(temporaries[i].c_str(), files[i].path.c_str()) == 0) continue;
+        if (special[i] || ::rename(temporaries[i].c_str(), files[i].path.c_str()) == 0) continue;
         const int error = errno;
-        for (size_t j = i; j < files.size(); ++j) ::unlink(temporaries[j].c_str());
+        for (size_t j = i; j < files.size(); ++j)
+            if (!temporaries[j].empty()) ::unlink(temporaries[j].c_str());
         throw cannot_write(files[i].path, what, error);
     }
+    for (size_t i = 0; i < files.size(); ++i)
+        if (special[i]) write_in_place(files[i], what);
 }
 
 std::string_view view_of(const std::vector<uint8_t>& bytes) {

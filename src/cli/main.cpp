@@ -71,8 +71,11 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
     if (*image_format_for_path(path) == ImageFormat::Png && !png_supported())
         throw InputError(path, "PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
     struct stat info;
-    const bool exists = ::stat(path.c_str(), &info) == 0;
-    if (exists && S_ISDIR(info.st_mode)) throw InputError(path, "cannot write image: it is a directory");
+    if (::stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
+        throw InputError(path, "cannot write image: it is a directory");
+    // The rename replaces the folder's entry itself (a link, not what it points to): its owner
+    // is the one a sticky folder asks about.
+    const bool exists = ::lstat(path.c_str(), &info) == 0;
     const uid_t file_owner = exists ? info.st_uid : 0;
     const std::string folder = folder_of(path);
     if (::stat(folder.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))

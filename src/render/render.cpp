@@ -536,7 +536,7 @@ PixelExplanation explain_pixel(const Scene& scene, const RenderOptions& options,
         intersect(scene, ray, camera.t_min, hit, options.mode == RenderMode::Cost ? &counters : nullptr);
         RayCounts counts;
         RayTree tree;
-        tree.capacity = std::max<size_t>(16, kMaxExplainedRays / static_cast<size_t>(spp));
+        tree.capacity = std::max<size_t>(1, kMaxExplainedRays / static_cast<size_t>(spp));
         const Vec3f color = shade_camera_sample(integrator, index, s, ray, hit, counters.nodes_visited, counts, &tree);
         sum = s == 0 ? color : sum + color;
         explanation.sample_offsets.push_back(spp == 1 && camera.lens_radius <= 0 ? Vec2f{0.5f, 0.5f}

@@ -168,10 +168,10 @@ SceneDesc load_scene_text(const std::string& text, const std::string& file_name,
         loader.load_all(*desc.root);
         if (!loader.errors().empty()) {
             std::vector<Diagnostic> all = std::move(loader.errors());
-            attach_source_lines(all, text, file_name);
+            attach_source_lines(all, desc.source_text, file_name);
             throw InputError(std::move(all));
         }
-        attach_source_lines(loader.warnings(), text, file_name);
+        attach_source_lines(loader.warnings(), desc.source_text, file_name);
         for (Diagnostic& warning : loader.warnings()) desc.warnings.push_back(std::move(warning));
     }
     return desc;
