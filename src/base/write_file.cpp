@@ -67,9 +67,6 @@ std::string write_temporary(const Pending& file, const char* what) {
     return temporary;
 }
 
-// Every file's temporary first, then the renames: a full disk or a quota fails before any file
-// is replaced, so a run that reports failure leaves every output as it was (a rename, the last
-// step, rarely fails; then the temporaries left are removed).
 // Whether `path` is something other than a plain file (a pipe, a terminal, /dev/null): written
 // into, not replaced by a rename, which would put a plain file in its place.
 bool is_special_file(const std::string& path) {
@@ -85,6 +82,9 @@ void write_in_place(const Pending& file, const char* what) {
     if (error != 0) throw cannot_write(file.path, what, error);
 }
 
+// Every file's temporary first, then the renames: a full disk or a quota fails before any file
+// is replaced, so a run that reports failure leaves every output as it was (a rename, the last
+// step, rarely fails; then the temporaries left are removed). Special files are written last.
 void write_together(const std::vector<Pending>& files, const char* what) {
     std::vector<bool> special;
     for (const Pending& file : files) special.push_back(is_special_file(file.path));

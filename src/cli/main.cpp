@@ -70,15 +70,16 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
             throw UsageError("the output '" + path + "' is " + input_what + " itself: choose another name");
     if (*image_format_for_path(path) == ImageFormat::Png && !png_supported())
         throw InputError(path, "PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
-    struct stat info;
-    if (::stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
+    struct stat target;
+    if (::stat(path.c_str(), &target) == 0 && S_ISDIR(target.st_mode))
         throw InputError(path, "cannot write image: it is a directory");
     // The rename replaces the folder's entry itself (a link, not what it points to): its owner
     // is the one a sticky folder asks about.
-    const bool exists = ::lstat(path.c_str(), &info) == 0;
-    const uid_t file_owner = exists ? info.st_uid : 0;
+    struct stat entry;
+    const bool exists = ::lstat(path.c_str(), &entry) == 0;
     const std::string folder = folder_of(path);
-    if (::stat(folder.c_str(), &info) != 0 || !S_ISDIR(info.st_mode))
+    struct stat folder_info;
+    if (::stat(folder.c_str(), &folder_info) != 0 || !S_ISDIR(folder_info.st_mode))
         throw InputError(path, "cannot write image: the folder '" + folder + "' does not exist");
     if (::access(folder.c_str(), W_OK) != 0)
         throw InputError(path, "cannot write image: the folder '" + folder + "' is not writable: " + std::strerror(errno));
@@ -90,7 +91,7 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
                                              "most %ld",
                                              name.size(), name_max));
     const uid_t me = ::geteuid();
-    if (exists && (info.st_mode & S_ISVTX) && me != 0 && file_owner != me && info.st_uid != me)
+    if (exists && (folder_info.st_mode & S_ISVTX) && me != 0 && entry.st_uid != me && folder_info.st_uid != me)
         throw InputError(path, "cannot write image: the file belongs to another user, and its folder (sticky, as /tmp "
                                "is) lets only the owner replace it: choose another name");
 }

@@ -52,12 +52,10 @@ Bounds3f transformed_sphere_bounds(const Mat4& m, const Sphere& sphere) {
     const Vec3f center = transform_point(m, sphere.center);
     Bounds3f result;
     for (int i = 0; i < 3; ++i) {
-        // In double: a row of 1e20 (a sphere of radius 1e-20 under UniformScale 1e20) squares past float.
-        const double row = std::sqrt(double{m.m[i][0]} * m.m[i][0] + double{m.m[i][1]} * m.m[i][1] +
-                                     double{m.m[i][2]} * m.m[i][2]);
-        const double reach = sphere.radius * row;
-        result.lower[i] = static_cast<float>(center[i] - reach);
-        result.upper[i] = static_cast<float>(center[i] + reach);
+        // Squared in float: check_scale holds every entry within 1e18, so a row's squares stay below 3e36.
+        const float reach = sphere.radius * std::sqrt(m.m[i][0] * m.m[i][0] + m.m[i][1] * m.m[i][1] + m.m[i][2] * m.m[i][2]);
+        result.lower[i] = center[i] - reach;
+        result.upper[i] = center[i] + reach;
     }
     return result;
 }
@@ -316,8 +314,9 @@ private:
 
     // Objects are tested in their own space, where a ray's direction is M⁻¹d: a scale past
     // kMaxCoordinate either way squares it out of float's range, below it when M grows (a sphere
-    // of radius 1e-25 under UniformScale 1e25 vanished) and above it when M shrinks. The scale is the largest entry of the linear part of M (or
-    // the inverse of M⁻¹'s), the transforms around this one included. True when it is within.
+    // of radius 1e-25 under UniformScale 1e25 vanished) and above it when M shrinks. The scale is
+    // the largest entry of the linear part of M (or the inverse of M⁻¹'s), the transforms around
+    // this one included. True when it is within.
     bool check_scale(const ObjectDesc& object, const Mat4& world_from_object, const Mat4& object_from_world) {
         auto largest_linear_entry = [](const Mat4& m) {
             float largest = 0;
@@ -347,11 +346,7 @@ private:
     // the world and vanished.
     void check_extent(const ObjectDesc& object, const Bounds3f& world_bounds, const Bounds3f& object_bounds = {}) {
         auto largest_coordinate = [](const Bounds3f& b) {
-            float largest = 0;
-            if (b.is_empty()) return largest;
-            for (int axis = 0; axis < 3; ++axis)
-                largest = std::fmax(largest, std::fmax(std::fabs(b.lower[axis]), std::fabs(b.upper[axis])));
-            return largest;
+            return b.is_empty() ? 0.0f : std::fmax(max_abs(b.lower), max_abs(b.upper));
         };
         const float world = largest_coordinate(world_bounds);
         const float own = largest_coordinate(object_bounds);
