@@ -179,15 +179,7 @@ TEST(CliTest, AnOutputNameTooLongForItsFolderIsRefusedBeforeTheRender) {
 // limit makes a note at once (once), and the count comes at the end; -q says neither.
 TEST(CliTest, ARenderReachingTheRayLimitSaysSoAtOnce) {
     const std::string dir = temp_dir("cli/ray_limit");
-    write_file(dir + "/m.txt",
-               "PerspectiveCamera { center 0 0 0.5 direction 0 0 -1 up 0 1 0 angle 30 width 4 height 4 }\n"
-               "Lights { numLights 1 PointLight { position 0 0.5 0 color 1 1 1 } }\n"
-               "Background { color 0 0 0 }\n"
-               "Materials { numMaterials 2 Material { diffuseColor 0.1 0.1 0.1 reflectiveColor 0.9 0.9 0.9 }\n"
-               "  Material { diffuseColor 0 0 0 reflectiveColor 0.5 0.5 0.5 transparentColor 0.5 0.5 0.5 "
-               "indexOfRefraction 1.5 } }\n"
-               "Group { numObjects 3 MaterialIndex 0 Plane { normal 0 0 1 offset -2 } Plane { normal 0 0 -1 offset -2 }\n"
-               "  MaterialIndex 1 Sphere { center 0 0 -1 radius 0.5 } }\n");
+    write_file(dir + "/m.txt", mirrors_and_glass_scene(4));
     const RunResult run = run_raycast("m.txt o.ppm --bounces 40 --weight 0", dir);
     ASSERT_EQ(run.exit_code, 0) << run.output;
     const std::vector<std::string> lines = lines_of(run.output);

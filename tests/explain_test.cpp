@@ -339,35 +339,13 @@ TEST(ExplainTest, GlassSurfacesOfRevolutionAreRayTracedAndExplained) {
     EXPECT_GT(through_glass, 20) << "rays should enter the goblet's glass and leave it";
 }
 
-// A glass ball between two facing mirrors, the camera between them: with the weight cutoff off,
-// each ray's tree doubles at every meeting with the glass.
-const char* const kMirrorsAndGlassScene = R"(PerspectiveCamera {
-    center 0 0 0.5  direction 0 0 -1  up 0 1 0  angle 30  width 8  height 8
-}
-Lights { numLights 1 PointLight { position 0 0.5 0 color 1 1 1 } }
-Background { color 0 0 0 }
-Materials {
-    numMaterials 2
-    Material { diffuseColor 0.1 0.1 0.1 reflectiveColor 0.9 0.9 0.9 }
-    Material { diffuseColor 0 0 0 reflectiveColor 0.5 0.5 0.5 transparentColor 0.5 0.5 0.5 indexOfRefraction 1.5 }
-}
-Group {
-    numObjects 3
-    MaterialIndex 0
-    Plane { normal 0 0 1 offset -2 }
-    Plane { normal 0 0 -1 offset -2 }
-    MaterialIndex 1
-    Sphere { center 0 0 -1 radius 0.5 }
-}
-)";
-
 // Trees that double with every bounce: at 80 bounces one pixel's JSON was 421 MB. The trees of a
 // pixel keep at most kMaxExplainedRays rays (shared out among its samples) and count the rest;
 // the colour is still that of every ray traced, and the JSON's indentation stops growing past 16
 // levels.
 TEST(ExplainTest, DeepTreesAreCutAtTheLimitAndCountWhatTheyLeaveOut) {
     const std::string dir = temp_dir("explain/deep");
-    write_file(dir + "/s.txt", kMirrorsAndGlassScene);
+    write_file(dir + "/s.txt", mirrors_and_glass_scene(8));
     const Scene scene = build_scene(load_scene_file(dir + "/s.txt"), SceneBuildOptions{});
     RenderOptions options;
     options.shadows = true;

@@ -117,4 +117,27 @@ void write_file(const std::string& path, const std::string& text) {
     out << text;
 }
 
+std::string mirrors_and_glass_scene(int side) {
+    const std::string size = std::to_string(side);
+    return "PerspectiveCamera {\n"
+           "    center 0 0 0.5  direction 0 0 -1  up 0 1 0  angle 30  width " + size + "  height " + size + "\n"
+           "}\n"
+           "Lights { numLights 1 PointLight { position 0 0.5 0 color 1 1 1 } }\n"
+           "Background { color 0 0 0 }\n"
+           "Materials {\n"
+           "    numMaterials 2\n"
+           "    Material { diffuseColor 0.1 0.1 0.1 reflectiveColor 0.9 0.9 0.9 }\n"
+           "    Material { diffuseColor 0 0 0 reflectiveColor 0.5 0.5 0.5 transparentColor 0.5 0.5 0.5 "
+           "indexOfRefraction 1.5 }\n"
+           "}\n"
+           "Group {\n"
+           "    numObjects 3\n"
+           "    MaterialIndex 0\n"
+           "    Plane { normal 0 0 1 offset -2 }\n"
+           "    Plane { normal 0 0 -1 offset -2 }\n"
+           "    MaterialIndex 1\n"
+           "    Sphere { center 0 0 -1 radius 0.5 }\n"
+           "}\n";
+}
+
 }  // namespace raycast::test

@@ -46,4 +46,9 @@ std::vector<std::string> lines_of(const std::string& text);
 std::string read_file(const std::string& path);
 void write_file(const std::string& path, const std::string& text);
 
+/// A scene's text: a glass ball between two facing mirrors, the camera between them, `side`
+/// pixels square. With the weight cutoff off, each camera ray's tree doubles at every meeting
+/// with the glass, up to the sample's limit of rays.
+std::string mirrors_and_glass_scene(int side);
+
 }  // namespace raycast::test

@@ -202,6 +202,14 @@ std::string scene_dir(const std::string& name) {
     return dir;
 }
 
+// A session's settings for the scene s.txt in `dir`, rendered on two threads.
+ViewSettings session_settings(const std::string& dir) {
+    ViewSettings settings;
+    settings.scene_path = dir + "/s.txt";
+    settings.render.threads = 2;
+    return settings;
+}
+
 class ViewTest : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -440,9 +448,7 @@ TEST_F(ViewTest, HostileRequestsGetFourHundredsAndTheServerKeepsServing) {
 
 TEST_F(ViewTest, ANewerImageRequestCancelsTheOneInProgress) {
     const std::string dir = scene_dir("cancel");
-    ViewSettings settings;
-    settings.scene_path = dir + "/s.txt";
-    settings.render.threads = 2;
+    const ViewSettings settings = session_settings(dir);
     ViewSession session(settings);
     ASSERT_TRUE(session.reload_if_changed());
     EXPECT_FALSE(session.reload_if_changed());  // nothing changed since
@@ -462,9 +468,7 @@ TEST_F(ViewTest, ANewerImageRequestCancelsTheOneInProgress) {
 // number first, and the render in progress answered 409 though nothing newer was drawn.
 TEST_F(ViewTest, ARefusedImageRequestCancelsNothing) {
     const std::string dir = scene_dir("refused");
-    ViewSettings settings;
-    settings.scene_path = dir + "/s.txt";
-    settings.render.threads = 2;
+    const ViewSettings settings = session_settings(dir);
     ViewSession session(settings);
     ASSERT_TRUE(session.reload_if_changed());
     ViewResponse slow;
@@ -481,9 +485,7 @@ TEST_F(ViewTest, ARefusedImageRequestCancelsNothing) {
 // viewer kept showing the first. Whenever the second save lands, the viewer ends up showing it.
 TEST_F(ViewTest, AMeshSavedAgainWhileItLoadsIsLoadedAgain) {
     const std::string dir = scene_dir("saved_twice");
-    ViewSettings settings;
-    settings.scene_path = dir + "/s.txt";
-    settings.render.threads = 2;
+    const ViewSettings settings = session_settings(dir);
     ViewSession session(settings);
     ASSERT_TRUE(session.reload_if_changed());
     // A grid of 2 × 400² triangles, which takes tens of milliseconds to load and build.

@@ -865,30 +865,39 @@ TEST_F(ImageFileTest, NewFilesGetTheUmaskPermissions) {
     EXPECT_EQ(info.st_mode & 0777, 0644u);
 }
 
-TEST_F(ImageFileTest, FailedWriteLeavesTheExistingFileUntouched) {
-    const std::vector<uint8_t> old = encode_image(small_image(), ImageFormat::Bmp);
-    write_bytes(path("out.bmp"), old);
-    // Limit file sizes to 4 KiB so that writing a 120 KB image fails part way (EFBIG instead of SIGXFSZ).
-    // Nothing else may run in between: even a test failure message could hit the limit.
+// Runs `write` with files limited to 4 KiB, so that writing a 120 KB image fails part way (EFBIG
+// instead of SIGXFSZ), and returns where and why the InputError it threw says it failed ("FILE:
+// MESSAGE"), or "no error". Nothing else may run while the limit holds: even a test failure
+// message could hit it.
+std::string error_under_a_4_kib_file_limit(const std::function<void()>& write) {
     struct rlimit saved {};
-    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
+    if (::getrlimit(RLIMIT_FSIZE, &saved) != 0) return "getrlimit failed";
     struct sigaction ignore {
     }, saved_action{};
     ignore.sa_handler = SIG_IGN;
-    ASSERT_EQ(::sigaction(SIGXFSZ, &ignore, &saved_action), 0);
-    struct rlimit small = saved;
-    small.rlim_cur = 4096;
-    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+    if (::sigaction(SIGXFSZ, &ignore, &saved_action) != 0) return "sigaction failed";
+    struct rlimit limited = saved;
+    limited.rlim_cur = 4096;
     std::string message = "no error";
-    try {
-        write_image(path("out.bmp"), ImageRgb8(200, 200));
-    } catch (const InputError& error) {
-        message = error.diagnostics()[0].message;
+    if (::setrlimit(RLIMIT_FSIZE, &limited) != 0) {
+        message = "setrlimit failed";
+    } else {
+        try {
+            write();
+        } catch (const InputError& error) {
+            message = error.diagnostics()[0].location.file + ": " + error.diagnostics()[0].message;
+        }
+        ::setrlimit(RLIMIT_FSIZE, &saved);
     }
-    ::setrlimit(RLIMIT_FSIZE, &saved);
     ::sigaction(SIGXFSZ, &saved_action, nullptr);
+    return message;
+}
 
-    EXPECT_EQ(message, "cannot write image: File too large");
+TEST_F(ImageFileTest, FailedWriteLeavesTheExistingFileUntouched) {
+    const std::vector<uint8_t> old = encode_image(small_image(), ImageFormat::Bmp);
+    write_bytes(path("out.bmp"), old);
+    EXPECT_EQ(error_under_a_4_kib_file_limit([&] { write_image(path("out.bmp"), ImageRgb8(200, 200)); }),
+              path("out.bmp") + ": cannot write image: File too large");
     EXPECT_EQ(read_bytes(path("out.bmp")), old);
     EXPECT_EQ(entries(), std::vector<std::string>{"out.bmp"});
 }
@@ -902,25 +911,10 @@ TEST_F(ImageFileTest, FilesWrittenTogetherAreAllReplacedOrNone) {
     const std::vector<uint8_t> small = encode_image(small_image(), ImageFormat::Bmp);  // within the limit below
     const std::vector<uint8_t> large = encode_image(ImageRgb8(200, 200), ImageFormat::Bmp);
     ASSERT_LT(small.size(), 4096u);
-    struct rlimit saved {};
-    ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
-    struct sigaction ignore {
-    }, saved_action{};
-    ignore.sa_handler = SIG_IGN;
-    ASSERT_EQ(::sigaction(SIGXFSZ, &ignore, &saved_action), 0);
-    struct rlimit limited = saved;
-    limited.rlim_cur = 4096;
-    ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
-    std::string message = "no error";
-    try {
-        write_files_atomically({{path("image.bmp"), small}, {path("depth.bmp"), large}}, "image");
-    } catch (const InputError& error) {
-        message = error.diagnostics()[0].location.file + ": " + error.diagnostics()[0].message;
-    }
-    ::setrlimit(RLIMIT_FSIZE, &saved);
-    ::sigaction(SIGXFSZ, &saved_action, nullptr);
-
-    EXPECT_EQ(message, path("depth.bmp") + ": cannot write image: File too large");
+    EXPECT_EQ(error_under_a_4_kib_file_limit([&] {
+                  write_files_atomically({{path("image.bmp"), small}, {path("depth.bmp"), large}}, "image");
+              }),
+              path("depth.bmp") + ": cannot write image: File too large");
     EXPECT_EQ(read_bytes(path("image.bmp")), bytes_of("old image"));
     EXPECT_EQ(read_bytes(path("depth.bmp")), bytes_of("old depth"));
     EXPECT_EQ(entries(), (std::vector<std::string>{"depth.bmp", "image.bmp"}));
