@@ -666,9 +666,13 @@ inline TriangleLanes test_triangle_packet(const unsigned char* group, uint32_t l
     h.u1 = ax * cy - ay * cx;
     h.u2 = bx * ay - by * ax;
     const VF zero = splat(0.0f);
-    const VM negative = (u0 < zero) | (h.u1 < zero) | (h.u2 < zero);
-    const VM positive = (u0 > zero) | (h.u1 > zero) | (h.u2 > zero);
-    h.hit = andnot(live, negative & positive);
+    // intersect_triangle misses where some edge function is below 0 and some above: here, where
+    // the least is below and the greatest above (four operations fewer than six comparisons; 1.03x
+    // on 1k-triangle packet renders, level at 100k and 1M). Only a lane with a NaN edge function
+    // can pass one form and fail the other, and such a lane never hits: its det is NaN, so is its
+    // t, and NaN > t_min is false.
+    const VF least = vmin(vmin(u0, h.u1), h.u2), greatest = vmax(vmax(u0, h.u1), h.u2);
+    h.hit = andnot(live, (least < zero) & (greatest > zero));
     if (!any(h.hit)) return h;
     h.det = u0 + h.u1 + h.u2;
     h.hit = h.hit & (h.det != zero);
