@@ -175,6 +175,22 @@ TEST(CliTest, AnOutputNameTooLongForItsFolderIsRefusedBeforeTheRender) {
     EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj"}));
 }
 
+// An output that is a symbolic link is written through: the image lands where the link leads,
+// and the link stays. A link into a folder that does not exist is refused before the render,
+// naming that folder.
+TEST(CliTest, AnOutputLinkIsWrittenThroughAndItsFolderCheckedFirst) {
+    const std::string dir = scene_dir("output_link");
+    ASSERT_EQ(run_command("mkdir '" + dir + "/images' && ln -s images/latest.ppm '" + dir + "/o.ppm' && ln -s "
+                          "missing/x.ppm '" + dir + "/broken.ppm'").exit_code, 0);
+    ASSERT_EQ(run_raycast("s.txt o.ppm -q", dir).exit_code, 0);
+    EXPECT_TRUE(parse_ppm(read_file(dir + "/images/latest.ppm")).ok);
+    EXPECT_EQ(run_command("test -L '" + dir + "/o.ppm'").exit_code, 0) << "the link was replaced by a file";
+    const RunResult broken = run_raycast("s.txt broken.ppm", dir);
+    EXPECT_EQ(broken.exit_code, 1);
+    EXPECT_EQ(first_line(broken.output), "broken.ppm: error: cannot write image: the folder 'missing' does not exist");
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "images", "o.ppm", "broken.ppm"}));
+}
+
 // Mirrors and glass deep in --bounces can take hours: the first camera sample that reaches its ray
 // limit makes a note at once (once), and the count comes at the end; -q says neither.
 TEST(CliTest, ARenderReachingTheRayLimitSaysSoAtOnce) {

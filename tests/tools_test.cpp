@@ -59,6 +59,14 @@ TEST(ToolsTest, MeshgenWritesWholeMeshesOrNone) {
     EXPECT_EQ(piped.exit_code, 0) << piped.output;
     EXPECT_EQ(read_file(dir + "/copy.obj"), read_file(dir + "/m.obj"));
     std::remove((dir + "/copy.obj").c_str());
+    // Through a symbolic link, into the file it leads to; the link stays a link.
+    const RunResult linked = run_command("cd '" + dir + "' && ln -s m.obj link.obj && '" +
+                                         std::string(RAYCAST_BINARY_DIR) +
+                                         "/raycast_meshgen' bumpy-sphere 1000 link.obj --seed 8 2>&1 && test -L link.obj");
+    EXPECT_EQ(linked.exit_code, 0) << linked.output;
+    EXPECT_NE(read_file(dir + "/m.obj").find("seed 8"), std::string::npos);
+    std::remove((dir + "/link.obj").c_str());
+    ASSERT_EQ(run_tool("raycast_meshgen", "bumpy-sphere 1000 m.obj --bumps 0.1 --seed 7", dir).exit_code, 0);
     write_file(dir + "/s.txt",
                "PerspectiveCamera { center 0 0 5 direction 0 0 -1 up 0 1 0 angle 30 width 8 height 8 }\n"
                "Lights { numLights 1 DirectionalLight { direction 0 0 -1 color 1 1 1 } }\n"

@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "base/write_file.h"
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -154,7 +156,11 @@ size_t triangle_count(const Mesh& mesh) {
 // Writes the OBJ to a temporary file beside `path`, then renames it: a failed write (a full disk)
 // had left a mesh cut mid-line at `path`, and one cut at a line's end would load as a smaller
 // mesh with no error. Returns the error's text, or "" on success.
-std::string write_obj(const Mesh& mesh, const std::string& path, const std::string& header) {
+std::string write_obj(const Mesh& mesh, const std::string& output, const std::string& header) {
+    // A link is written through, its target replaced (raycast::replaced_path).
+    int link_error = 0;
+    const std::string path = raycast::replaced_path(output, link_error);
+    if (link_error != 0) return std::strerror(link_error);
     // A pipe or a device (/dev/stdout, >(gzip)) is written into: a rename would put a plain file
     // in its place.
     struct stat info;

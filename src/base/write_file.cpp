@@ -37,14 +37,13 @@ int write_all(int fd, std::string_view bytes) {
     return 0;
 }
 
-// Writes the bytes to a fresh temporary file beside the path (fsync'ed) and returns its name; on
-// any failure removes it and throws.
-std::string write_temporary(const Pending& file, const char* what) {
-    const std::string& path = file.path;
-    const size_t slash = path.rfind('/');
-    const std::string directory = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+// Writes the bytes to a fresh temporary file beside `target` (the file's replaced_path; fsync'ed)
+// and returns its name; on any failure removes it and throws, naming the file as it was given.
+std::string write_temporary(const Pending& file, const std::string& target, const char* what) {
+    const size_t slash = target.rfind('/');
+    const std::string directory = slash == std::string::npos ? "" : target.substr(0, slash + 1);
     // Keep the temporary's name within NAME_MAX whatever the file name's length.
-    const std::string base = (slash == std::string::npos ? path : path.substr(slash + 1)).substr(0, 100);
+    const std::string base = (slash == std::string::npos ? target : target.substr(slash + 1)).substr(0, 100);
     static std::atomic<unsigned> counter{0};
     std::string temporary;
     int fd = -1;
@@ -55,17 +54,20 @@ std::string write_temporary(const Pending& file, const char* what) {
         fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
         if (fd < 0 && errno != EEXIST) break;
     }
-    if (fd < 0) throw cannot_write(path, what, errno);
+    if (fd < 0) throw cannot_write(file.path, what, errno);
     int error = write_all(fd, file.bytes);
     // Without fsync a crash soon after rename() could leave an empty file in place of both versions.
     if (error == 0 && ::fsync(fd) != 0) error = errno;
     if (::close(fd) != 0 && error == 0) error = errno;
     if (error != 0) {
         ::unlink(temporary.c_str());
-        throw cannot_write(path, what, error);
+        throw cannot_write(file.path, what, error);
     }
     return temporary;
 }
+
+// How many links replaced_path follows: Linux's own limit for a path (MAXSYMLINKS).
+constexpr int kMaxLinksFollowed = 40;
 
 // Whether `path` is something other than a plain file (a pipe, a terminal, /dev/null): written
 // into, not replaced by a rename, which would put a plain file in its place.
@@ -88,17 +90,24 @@ void write_in_place(const Pending& file, const char* what) {
 void write_together(const std::vector<Pending>& files, const char* what) {
     std::vector<bool> special;
     for (const Pending& file : files) special.push_back(is_special_file(file.path));
+    // A link is written through: its target is replaced, and the link left as it is.
+    std::vector<std::string> targets;
+    for (size_t i = 0; i < files.size(); ++i) {
+        int error = 0;
+        targets.push_back(special[i] ? files[i].path : replaced_path(files[i].path, error));
+        if (error != 0) throw cannot_write(files[i].path, what, error);
+    }
     std::vector<std::string> temporaries(files.size());
     try {
         for (size_t i = 0; i < files.size(); ++i)
-            if (!special[i]) temporaries[i] = write_temporary(files[i], what);
+            if (!special[i]) temporaries[i] = write_temporary(files[i], targets[i], what);
     } catch (...) {
         for (const std::string& temporary : temporaries)
             if (!temporary.empty()) ::unlink(temporary.c_str());
         throw;
     }
     for (size_t i = 0; i < files.size(); ++i) {
-        if (special[i] || ::rename(temporaries[i].c_str(), files[i].path.c_str()) == 0) continue;
+        if (special[i] || ::rename(temporaries[i].c_str(), targets[i].c_str()) == 0) continue;
         const int error = errno;
         for (size_t j = i; j < files.size(); ++j)
             if (!temporaries[j].empty()) ::unlink(temporaries[j].c_str());
@@ -113,6 +122,29 @@ std::string_view view_of(const std::vector<uint8_t>& bytes) {
 }
 
 }  // namespace
+
+std::string replaced_path(const std::string& path, int& error) {
+    error = 0;
+    std::string current = path;
+    for (int followed = 0;; ++followed) {
+        struct stat entry;
+        if (::lstat(current.c_str(), &entry) != 0 || !S_ISLNK(entry.st_mode)) return current;
+        if (followed == kMaxLinksFollowed) {
+            error = ELOOP;
+            return path;
+        }
+        std::string target(static_cast<size_t>(entry.st_size > 0 ? entry.st_size : 256) + 1, '\0');
+        const ssize_t length = ::readlink(current.c_str(), target.data(), target.size());
+        if (length <= 0) {  // Linux has no empty links
+            error = length < 0 ? errno : ENOENT;
+            return path;
+        }
+        if (static_cast<size_t>(length) >= target.size()) continue;  // changed meanwhile: read it again
+        target.resize(static_cast<size_t>(length));
+        const size_t slash = current.rfind('/');
+        current = target.front() == '/' || slash == std::string::npos ? target : current.substr(0, slash + 1) + target;
+    }
+}
 
 void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files,
                             const char* what) {

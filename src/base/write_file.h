@@ -12,6 +12,12 @@
 
 namespace raycast {
 
+/// The file that writing `path` replaces: `path` itself, or where the symbolic link it names
+/// leads (followed link by link, a relative target read from the link's folder), so that a
+/// written link keeps pointing at the new file, as a shell's `>` leaves it. `error` is 0, or the
+/// errno that stopped it (ELOOP for a loop of links); the path is then `path`.
+std::string replaced_path(const std::string& path, int& error);
+
 /// Writes each (path, bytes) atomically, all of them together: a failure before the renames (a
 /// full disk, a quota) replaces none. Throws InputError(path, "cannot write <what>: <reason>"),
 /// naming the file that failed; `what` is "image", "OBJ file", ...

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 
 #include <cstdio>
 #include <cstdlib>
@@ -9,6 +12,8 @@
 #include <iterator>
 #include <string>
 #include <thread>
+
+#include "base/error.h"
 
 namespace raycast {
 namespace {
@@ -44,6 +49,66 @@ TEST(WriteFileTest, PlainFilesAreReplacedAndPipesWrittenInto) {
     std::remove(plain.c_str());
     std::remove(pipe.c_str());
     std::remove(dir.c_str());
+}
+
+bool is_link(const std::string& path) {
+    struct stat info;
+    return ::lstat(path.c_str(), &info) == 0 && S_ISLNK(info.st_mode);
+}
+
+// A symbolic link is written through, as a shell's `>` writes: the file it leads to is replaced
+// and the link stays a link (a rename onto the link had put a plain file in its place and left
+// the file it pointed at as it was). Relative targets are read from the link's own folder, links
+// to links are followed, and a link to a file not yet there creates that file.
+TEST(WriteFileTest, LinksAreWrittenThrough) {
+    const std::string dir = fresh_dir();
+    ASSERT_EQ(::mkdir((dir + "/images").c_str(), 0700), 0);
+    const std::string target = dir + "/images/latest.ppm";
+    write_file_atomically(target, std::string_view("old"), "image");
+    const std::string relative = dir + "/relative.ppm", absolute = dir + "/absolute.ppm", chain = dir + "/chain.ppm";
+    ASSERT_EQ(::symlink("images/latest.ppm", relative.c_str()), 0);
+    ASSERT_EQ(::symlink(target.c_str(), absolute.c_str()), 0);
+    ASSERT_EQ(::symlink("relative.ppm", chain.c_str()), 0);
+    int error = -1;
+    EXPECT_EQ(replaced_path(chain, error), dir + "/images/latest.ppm");
+    EXPECT_EQ(error, 0);
+    EXPECT_EQ(replaced_path(target, error), target);
+    EXPECT_EQ(error, 0);
+
+    write_file_atomically(relative, std::string_view("through a relative link"), "image");
+    EXPECT_EQ(contents(target), "through a relative link");
+    write_files_atomically({{absolute, {'a', 'b', 's'}}, {chain, {'c', 'h', 'a', 'i', 'n'}}}, "image");
+    EXPECT_EQ(contents(target), "chain");  // both lead there; the last rename wins
+    for (const std::string& link : {relative, absolute, chain}) EXPECT_TRUE(is_link(link)) << link;
+
+    const std::string dangling = dir + "/dangling.ppm", created = dir + "/images/new.ppm";
+    ASSERT_EQ(::symlink("images/new.ppm", dangling.c_str()), 0);
+    write_file_atomically(dangling, std::string_view("created"), "image");
+    EXPECT_TRUE(is_link(dangling));
+    EXPECT_EQ(contents(created), "created");
+    for (const std::string& path : {relative, absolute, chain, dangling, target, created}) std::remove(path.c_str());
+    std::remove((dir + "/images").c_str());
+    std::remove(dir.c_str());
+}
+
+// A loop of links is an error that names the file as it was given, and nothing is written.
+TEST(WriteFileTest, ALoopOfLinksIsRefused) {
+    const std::string dir = fresh_dir();
+    const std::string a = dir + "/a.ppm", b = dir + "/b.ppm";
+    ASSERT_EQ(::symlink("b.ppm", a.c_str()), 0);
+    ASSERT_EQ(::symlink("a.ppm", b.c_str()), 0);
+    int error = 0;
+    EXPECT_EQ(replaced_path(a, error), a);
+    EXPECT_EQ(error, ELOOP);
+    try {
+        write_file_atomically(a, std::string_view("x"), "image");
+        ADD_FAILURE() << "a loop of links was written";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()), a + ": error: cannot write image: Too many levels of symbolic links\n");
+    }
+    std::remove(a.c_str());
+    std::remove(b.c_str());
+    EXPECT_EQ(::rmdir(dir.c_str()), 0) << "a temporary was left behind";
 }
 
 }  // namespace

@@ -70,21 +70,30 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
             throw UsageError("the output '" + path + "' is " + input_what + " itself: choose another name");
     if (*image_format_for_path(path) == ImageFormat::Png && !png_supported())
         throw InputError(path, "PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
-    struct stat target;
-    if (::stat(path.c_str(), &target) == 0 && S_ISDIR(target.st_mode))
-        throw InputError(path, "cannot write image: it is a directory");
-    // The rename replaces the folder's entry itself (a link, not what it points to): its owner
-    // is the one a sticky folder asks about.
+    struct stat existing;
+    const bool found = ::stat(path.c_str(), &existing) == 0;
+    if (found && S_ISDIR(existing.st_mode)) throw InputError(path, "cannot write image: it is a directory");
+    // A pipe or a device is written into (base/write_file.h): no rename, no folder to check.
+    if (found && !S_ISREG(existing.st_mode)) {
+        if (::access(path.c_str(), W_OK) != 0)
+            throw InputError(path, std::string("cannot write image: ") + std::strerror(errno));
+        return;
+    }
+    // A link is written through (replaced_path): the rename replaces what it leads to, in that
+    // file's folder, whose entry's owner is the one a sticky folder asks about.
+    int link_error = 0;
+    const std::string target = replaced_path(path, link_error);
+    if (link_error != 0) throw InputError(path, std::string("cannot write image: ") + std::strerror(link_error));
     struct stat entry;
-    const bool exists = ::lstat(path.c_str(), &entry) == 0;
-    const std::string folder = folder_of(path);
+    const bool exists = ::lstat(target.c_str(), &entry) == 0;
+    const std::string folder = folder_of(target);
     struct stat folder_info;
     if (::stat(folder.c_str(), &folder_info) != 0 || !S_ISDIR(folder_info.st_mode))
         throw InputError(path, "cannot write image: the folder '" + folder + "' does not exist");
     if (::access(folder.c_str(), W_OK) != 0)
         throw InputError(path, "cannot write image: the folder '" + folder + "' is not writable: " + std::strerror(errno));
     // The image replaces the file by a rename, which these refuse only at the end of the render.
-    const std::string name = path.substr(path.find_last_of('/') + 1);
+    const std::string name = target.substr(target.find_last_of('/') + 1);
     const long name_max = ::pathconf(folder.c_str(), _PC_NAME_MAX);
     if (name_max > 0 && static_cast<long>(name.size()) > name_max)
         throw InputError(path, string_printf("cannot write image: its name is %zu bytes long, and the folder takes at "
