@@ -500,6 +500,24 @@ TEST_F(ViewTest, AMeshSavedAgainWhileItLoadsIsLoadedAgain) {
                    std::to_string(a + 1) + "\n";
         }
     const std::string final_mesh = "v -2 -1 -2\nv 2 -1 -2\nv 0 2 -2\nf 1 2 3\n";
+    // A mesh the viewer has not seen before (here: at its first load) saved again while it is
+    // parsed: its stamp was taken by name after the load, so the save was recorded as loaded. The
+    // stamp is now the one of the file as it was opened.
+    for (const int delay_ms : {5, 20, 40}) {
+        SCOPED_TRACE(delay_ms);
+        write_file(dir + "/quad.obj", big);
+        ViewSession first_look(settings);
+        std::thread loader([&] { first_look.reload_if_changed(); });
+        std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+        write_file(dir + "/quad.obj", final_mesh);
+        loader.join();
+        first_look.reload_if_changed();
+        ViewSession fresh(settings);
+        ASSERT_TRUE(fresh.reload_if_changed());
+        const ViewResponse shown = first_look.image({});
+        ASSERT_EQ(shown.status, 200);
+        EXPECT_TRUE(shown.body == fresh.image({}).body) << "the viewer shows a mesh that is no longer on disk";
+    }
     for (const int delay_ms : {5, 20, 40}) {
         SCOPED_TRACE(delay_ms);
         write_file(dir + "/quad.obj", big);

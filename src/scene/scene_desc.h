@@ -5,9 +5,11 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "base/error.h"
+#include "base/file_version.h"
 #include "geometry/curve.h"
 #include "geometry/plane.h"
 #include "geometry/sphere.h"
@@ -49,8 +51,15 @@ struct MaterialDesc {
 /// A loaded OBJ file; TriangleMesh objects refer to it by index, so a file used several times is
 /// read once and stored once.
 struct MeshDesc {
+    MeshDesc() = default;
+    MeshDesc(std::string path_, TriangleMesh mesh_, FileVersion version_ = {})
+        : path(std::move(path_)), mesh(std::move(mesh_)), version(version_) {}
+
     std::string path;  ///< the path that opened it
     TriangleMesh mesh;
+    /// The file as load_obj_file opened it (fstat on the file it read, not a second look by
+    /// name, which could see a version saved while it was read).
+    FileVersion version;
 };
 
 struct ObjectDesc {

@@ -706,6 +706,7 @@ TriangleMesh load_obj_file(const std::string& path, const ObjLoadOptions& option
     struct stat info;
     if (::fstat(fd, &info) != 0) throw InputError(path, std::string("cannot open OBJ file: ") + std::strerror(errno));
     if (S_ISDIR(info.st_mode)) throw InputError(path, "cannot open OBJ file: it is a directory");
+    if (options.opened) *options.opened = version_of(info);
 
     // One read into one buffer sized from the file; the +1 finds the end without a second
     // allocation. Pipes and files that grow while read make the buffer grow.

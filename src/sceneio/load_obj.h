@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "base/file_version.h"
 #include "geometry/triangle_mesh.h"
 
 namespace raycast {
@@ -20,6 +21,8 @@ struct ObjLoadOptions {
     /// When set, receives a warning, located, for each of the first 20 statements that OBJ does not
     /// define (a typo such as 'f1'), which are skipped, and a note counting the rest.
     std::vector<Diagnostic>* warnings = nullptr;
+    /// When set, receives the file's version as load_obj_file opened it, before reading it.
+    FileVersion* opened = nullptr;
 };
 
 /// Reads and parses an OBJ file. Throws InputError: "cannot open OBJ file: ..." located at the file

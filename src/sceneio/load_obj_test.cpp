@@ -534,9 +534,15 @@ std::string write_temp_file(const std::string& name, std::string_view content) {
 
 TEST(LoadObjFile, LoadsAFile) {
     const std::string path = write_temp_file("quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4");
-    const TriangleMesh mesh = load_obj_file(path);
+    ObjLoadOptions options;
+    FileVersion opened;
+    options.opened = &opened;
+    const TriangleMesh mesh = load_obj_file(path, options);
     EXPECT_EQ(mesh.positions.size(), 4u);
     EXPECT_EQ(mesh.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+    // The version of the file it read, for the viewer to compare with the file later.
+    EXPECT_EQ(opened.size, 41);
+    EXPECT_EQ(opened, current_version(path));
     std::remove(path.c_str());
 }
 

@@ -101,8 +101,10 @@ private:
             obj_options.threads = options_.threads;
             std::vector<Diagnostic> obj_warnings;
             obj_options.warnings = &obj_warnings;
+            FileVersion version;
+            obj_options.opened = &version;
             MeshDesc mesh{*found, in_memory ? parse_obj(*in_memory, *found, obj_options)
-                                            : load_obj_file(*found, obj_options)};
+                                            : load_obj_file(*found, obj_options), version};
             for (Diagnostic& warning : obj_warnings) warnings_.push_back(std::move(warning));
             // Located at the first TriangleMesh that names the file; the others share its mesh.
             if (mesh.mesh.triangle_count() == 0)

@@ -1,7 +1,5 @@
 #include "view/view_session.h"
 
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -169,21 +167,14 @@ ViewSession::ViewSession(ViewSettings settings) : settings_(std::move(settings))
     settings_.render.has_crop = false;  // the viewer always shows the whole frame
 }
 
-ViewSession::FileStamp ViewSession::stamp(const std::string& path) {
-    FileStamp s;
-    s.path = path;
-    struct stat info;
-    if (::stat(path.c_str(), &info) == 0) {
-        s.modified_ns = int64_t{info.st_mtim.tv_sec} * 1000000000 + info.st_mtim.tv_nsec;
-        s.size = info.st_size;
-    }
-    return s;
-}
+ViewSession::FileStamp ViewSession::stamp(const std::string& path) { return {path, current_version(path)}; }
 
+// Each mesh as the loader opened it (MeshDesc::version): a second look by name, after the load,
+// could see a version saved while the old one was read, and then that save would never reload.
 std::vector<ViewSession::FileStamp> ViewSession::stamps_of(const SceneDesc* desc) const {
     std::vector<FileStamp> stamps{stamp(settings_.scene_path)};
     if (desc)
-        for (const MeshDesc& mesh : desc->meshes) stamps.push_back(stamp(mesh.path));
+        for (const MeshDesc& mesh : desc->meshes) stamps.push_back({mesh.path, mesh.version});
     return stamps;
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "base/file_version.h"
 #include "render/render_options.h"
 #include "scene/conventions.h"
 #include "scene/scene.h"
@@ -77,11 +78,8 @@ public:
 private:
     struct FileStamp {
         std::string path;
-        int64_t modified_ns = 0;
-        int64_t size = -1;
-        bool operator==(const FileStamp& other) const {
-            return path == other.path && modified_ns == other.modified_ns && size == other.size;
-        }
+        FileVersion version;
+        bool operator==(const FileStamp& other) const { return path == other.path && version == other.version; }
     };
     // One load: the description (shared by the scenes built from it), its scenes per
     // conventions, and what it said.
