@@ -114,5 +114,52 @@ TEST(ToolsTest, RevolveChecksItsOutputBeforeWritingAnything) {
     EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt"}));
 }
 
+// With OUTPUT in another folder, the scene's own relative mesh paths are rewritten to name the
+// same files from there (they were copied as they were, and the new scene could not find its
+// meshes); in the scene's own folder everything but the RevSurface blocks is copied byte for byte.
+TEST(ToolsTest, RevolveKeepsTheScenesMeshesFoundFromAnotherFolder) {
+    const std::string dir = temp_dir("tools/revolve_folders");
+    ASSERT_EQ(run_command("mkdir -p '" + dir + "/scenes/meshes' '" + dir + "/out'").exit_code, 0);
+    const char* const scene =
+        "PerspectiveCamera { center 0 1 8 direction 0 0 -1 up 0 1 0 angle 30 width 16 height 12 }\n"
+        "Lights { numLights 1 DirectionalLight { direction 0 -1 -1 color 1 1 1 } }\n"
+        "Materials { numMaterials 1 Material { diffuseColor 1 1 1 } }\n"
+        "Group { numObjects 3 MaterialIndex 0\n"
+        "  TriangleMesh { obj_file meshes/quad.obj }\n"
+        "  TriangleMesh { obj_file \"meshes/quad.obj\" }  # the same file, quoted\n"
+        "  RevSurface { profile BezierCurve { controls [ 0 0 0 ] [ 1 0.5 0 ] [ 1 1.5 0 ] [ 0 2 0 ] } }\n"
+        "}\n";
+    write_file(dir + "/scenes/s.txt", scene);
+    write_file(dir + "/scenes/meshes/quad.obj", "v -2 -1 -2\nv 2 -1 -2\nv 2 2 -2\nv -2 2 -2\nf 1 2 3 4\n");
+    const RunResult moved = run_tool("raycast_revolve", "scenes/s.txt out/o.txt --along 8 --around 8", dir);
+    ASSERT_EQ(moved.exit_code, 0) << moved.output;
+    EXPECT_EQ(moved.output,
+              "raycast_revolve: 1 surfaces, 128 triangles (8 x 8 each)\n"
+              "raycast_revolve: 2 mesh paths written relative to out/o.txt's folder\n");
+    const std::string written = read_file(dir + "/out/o.txt");
+    EXPECT_NE(written.find("TriangleMesh { obj_file ../scenes/meshes/quad.obj }\n"), std::string::npos) << written;
+    EXPECT_NE(written.find("TriangleMesh { obj_file ../scenes/meshes/quad.obj }  # the same file, quoted\n"),
+              std::string::npos) << written;
+    EXPECT_NE(written.find("TriangleMesh { obj_file \"o.rev0.obj\" }"), std::string::npos) << written;
+    // Found wherever raycast runs from, and the same picture as from the scene's own copy.
+    for (const char* from : {"", "/out", "/scenes"}) {
+        SCOPED_TRACE(from);
+        const RunResult rendered = run_raycast("'" + dir + "/out/o.txt' '" + dir + "/o.ppm' --stats -q", dir + from);
+        ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
+        EXPECT_NE(rendered.output.find(" triangles=132 "), std::string::npos) << rendered.output;
+    }
+    const RunResult beside = run_tool("raycast_revolve", "s.txt o.txt --along 8 --around 8", dir + "/scenes");
+    ASSERT_EQ(beside.exit_code, 0) << beside.output;
+    EXPECT_EQ(beside.output, "raycast_revolve: 1 surfaces, 128 triangles (8 x 8 each)\n");
+    const std::string copied = read_file(dir + "/scenes/o.txt");
+    const std::string expected = std::string(scene).replace(
+        std::string(scene).find("RevSurface"),
+        std::string(scene).find(" }\n}\n") + 2 - std::string(scene).find("RevSurface"),
+        "TriangleMesh { obj_file \"o.rev0.obj\" }");
+    EXPECT_EQ(copied, expected);
+    ASSERT_EQ(run_raycast("o.txt o.ppm -q", dir + "/scenes").exit_code, 0);
+    EXPECT_EQ(read_file(dir + "/scenes/o.ppm"), read_file(dir + "/o.ppm"));
+}
+
 }  // namespace
 }  // namespace raycast::test

@@ -5,10 +5,13 @@
 // Writes OUTPUT.txt, a copy of SCENE in which the k-th `RevSurface { ... }` (k = 0, 1, ... in file
 // order) is replaced by `TriangleMesh { obj_file "OUTPUT.revK.obj" }`, and those OBJ files beside
 // it, with the surface's analytic normals at the vertices: N steps of the profile's parameter
-// (default 256) by M steps around the axis (default 256). Everything else is copied byte for byte.
+// (default 256) by M steps around the axis (default 256). Everything else is copied byte for byte,
+// except, when OUTPUT is in another folder than SCENE, the scene's relative obj_file paths, which
+// are rewritten to name the same files from OUTPUT's folder.
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -54,6 +57,72 @@ std::vector<Span> rev_surface_spans(const std::string& text, const std::string& 
                          static_cast<size_t>(last.text.data() - text.data()) + last.text.size()});
     }
     return spans;
+}
+
+// A piece of the scene's text to replace: [begin, end) by `text`.
+struct Edit {
+    size_t begin, end;
+    std::string text;
+};
+
+// The folder a path is in, made absolute and canonical ("" when it cannot be).
+std::string canonical_folder(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    const std::string folder = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+    char* resolved = ::realpath(folder.c_str(), nullptr);
+    if (!resolved) return {};
+    std::string result(resolved);
+    std::free(resolved);
+    return result;
+}
+
+// `target` (absolute, canonical) as seen from the folder `from` (the same): "../mesh/a.obj".
+std::string relative_to(const std::string& target, const std::string& from) {
+    auto parts = [](const std::string& path) {
+        std::vector<std::string> out;
+        for (size_t at = 0; at < path.size();) {
+            const size_t next = std::min(path.find('/', at), path.size());
+            if (next > at) out.push_back(path.substr(at, next - at));
+            at = next + 1;
+        }
+        return out;
+    };
+    const std::vector<std::string> to = parts(target), here = parts(from);
+    size_t common = 0;
+    while (common < to.size() && common < here.size() && to[common] == here[common]) ++common;
+    std::string result;
+    for (size_t i = common; i < here.size(); ++i) result += "../";
+    for (size_t i = common; i < to.size(); ++i) result += (i > common ? "/" : "") + to[i];
+    return result;
+}
+
+// The edits that keep the scene's own meshes found from OUTPUT's folder, which is not the scene's:
+// a relative obj_file path names the file the scene loads now (load_scene's rule: as written,
+// next to the scene, in its folder's parent), written relative to OUTPUT's folder. A path that
+// names no file, or that could not be written back (a quote, a line break), is copied as it is.
+std::vector<Edit> mesh_path_edits(const std::string& text, const std::string& scene, const std::string& output) {
+    std::vector<Edit> edits;
+    const std::string output_folder = canonical_folder(output);
+    if (output_folder.empty() || output_folder == canonical_folder(scene)) return edits;
+    Lexer lexer(text, scene);
+    for (Token token = lexer.take(); !token.is_end(); token = lexer.take()) {
+        if (!token.is("obj_file")) continue;
+        const Token path = lexer.take();
+        std::string_view written = path.text;
+        if (written.size() >= 2 && written.front() == '"' && written.back() == '"')
+            written = written.substr(1, written.size() - 2);
+        if (written.empty() || written.front() == '/' || written.front() == '"') continue;
+        const std::string found = find_mesh_file(std::string(written), scene);
+        char* resolved = found.empty() ? nullptr : ::realpath(found.c_str(), nullptr);
+        if (!resolved) continue;
+        const std::string moved = relative_to(resolved, output_folder);
+        std::free(resolved);
+        if (moved.find_first_of("\"\n\r") != std::string::npos) continue;
+        const bool quoted = moved.find_first_of(" \t{}#") != std::string::npos;
+        const size_t begin = static_cast<size_t>(path.text.data() - text.data());
+        edits.push_back({begin, begin + path.text.size(), quoted ? "\"" + moved + "\"" : moved});
+    }
+    return edits;
 }
 
 std::string base_name(const std::string& path) {
@@ -127,7 +196,8 @@ int run(int argc, char** argv) {
     if (desc.root) collect_profiles(*desc.root, profiles);
     const std::vector<Span> spans = rev_surface_spans(text, scene);
     if (spans.size() != profiles.size()) throw InputError(scene, "could not find every RevSurface block in the text");
-    std::string result = text;
+    std::vector<Edit> edits = mesh_path_edits(text, scene, output);
+    const size_t moved_paths = edits.size();
     const std::string stem = output.size() > 4 && output.compare(output.size() - 4, 4, ".txt") == 0
                                  ? output.substr(0, output.size() - 4)
                                  : output;
@@ -137,12 +207,17 @@ int run(int argc, char** argv) {
         const TriangleMesh mesh = tessellate_rev_surface(*profiles[k], along, around);
         write_obj_file(obj, mesh);
         triangles += mesh.triangle_count();
-        result.replace(spans[k].begin, spans[k].end - spans[k].begin,
-                       "TriangleMesh { obj_file \"" + base_name(obj) + "\" }");
+        edits.push_back({spans[k].begin, spans[k].end, "TriangleMesh { obj_file \"" + base_name(obj) + "\" }"});
     }
+    // From the last to the first, so that each edit's offsets still hold.
+    std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) { return a.begin > b.begin; });
+    std::string result = text;
+    for (const Edit& edit : edits) result.replace(edit.begin, edit.end - edit.begin, edit.text);
     write_file_atomically(output, std::string_view(result), "the scene");
     std::printf("raycast_revolve: %zu surfaces, %zu triangles (%d x %d each)\n", profiles.size(), triangles, along,
                 around);
+    if (moved_paths > 0)
+        std::printf("raycast_revolve: %zu mesh paths written relative to %s's folder\n", moved_paths, output.c_str());
     return 0;
 }
 

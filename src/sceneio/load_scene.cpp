@@ -26,6 +26,29 @@ std::string folder_of(const std::string& path) {
     return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
 }
 
+}  // namespace
+
+std::vector<MeshCandidate> mesh_candidates(const std::string& mesh_path, const std::string& scene_file) {
+    std::vector<MeshCandidate> tried{{mesh_path, "from the working directory"}};
+    if (mesh_path.empty() || mesh_path[0] == '/') return tried;
+    const std::string folder = folder_of(scene_file);
+    if (folder.empty()) {
+        tried.push_back({"../" + mesh_path, "from the scene file's parent folder"});
+    } else {
+        tried.push_back({folder + mesh_path, "next to the scene file"});
+        tried.push_back({folder + "../" + mesh_path, "from the scene file's parent folder"});
+    }
+    return tried;
+}
+
+std::string find_mesh_file(const std::string& mesh_path, const std::string& scene_file) {
+    for (const MeshCandidate& candidate : mesh_candidates(mesh_path, scene_file))
+        if (is_regular_file(candidate.path)) return candidate.path;
+    return {};
+}
+
+namespace {
+
 class MeshLoader {
 public:
     MeshLoader(SceneDesc& desc, const SceneLoadOptions& options) : desc_(desc), options_(options) {}
@@ -39,24 +62,8 @@ public:
     std::vector<Diagnostic>& warnings() { return warnings_; }
 
 private:
-    // Where a mesh path is looked for: as written (from the working directory, the course's rule),
-    // next to the scene file (MIT 6.837's layout), and in the scene folder's parent (the course's
-    // layout, testcases/ beside mesh/, when raycast runs from elsewhere).
-    std::vector<std::pair<std::string, const char*>> candidates(const std::string& path) const {
-        std::vector<std::pair<std::string, const char*>> tried{{path, "from the working directory"}};
-        if (path.empty() || path[0] == '/') return tried;
-        const std::string folder = folder_of(desc_.file);
-        if (folder.empty()) {
-            tried.push_back({"../" + path, "from the scene file's parent folder"});
-        } else {
-            tried.push_back({folder + path, "next to the scene file"});
-            tried.push_back({folder + "../" + path, "from the scene file's parent folder"});
-        }
-        return tried;
-    }
-
     void load(ObjectDesc& object) {
-        const auto tried = candidates(object.mesh_path);
+        const std::vector<MeshCandidate> tried = mesh_candidates(object.mesh_path, desc_.file);
         const std::string* found = nullptr;
         const std::string* in_memory = nullptr;
         if (options_.in_memory_meshes) {
@@ -67,12 +74,12 @@ private:
             }
         }
         for (size_t i = 0; i < tried.size() && !in_memory && !found; ++i)
-            if (is_regular_file(tried[i].first)) found = &tried[i].first;
+            if (is_regular_file(tried[i].path)) found = &tried[i].path;
         if (!found) {
             std::string message = "cannot open OBJ file " + quote(object.mesh_path) + ": tried ";
             for (size_t i = 0; i < tried.size(); ++i) {
                 if (i > 0) message += i + 1 == tried.size() ? " and " : ", ";
-                message += quote(tried[i].first) + " (" + tried[i].second + ")";
+                message += quote(tried[i].path) + " (" + tried[i].how + ")";
             }
             if (options_.allow_missing_meshes) {
                 warnings_.push_back({Severity::Warning, object.mesh_path_location, message, ""});

@@ -3,6 +3,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "scene/scene_desc.h"
 
@@ -27,6 +28,21 @@ SceneDesc load_scene_file(const std::string& path, const SceneLoadOptions& optio
 /// The same for scene text in memory; `file_name` labels diagnostics and gives the folder for
 /// mesh paths.
 SceneDesc load_scene_text(const std::string& text, const std::string& file_name, const SceneLoadOptions& options = {});
+
+/// A place a scene's relative mesh path is looked for, and how it was found, for messages.
+struct MeshCandidate {
+    std::string path;
+    const char* how;
+};
+
+/// Where load_scene_file looks for the mesh a scene names as `mesh_path`, in order: as written
+/// (from the working directory, the course's rule), next to the scene file (MIT 6.837's layout),
+/// and in the scene folder's parent (the course's layout, testcases/ beside mesh/, when raycast
+/// runs from elsewhere). An absolute path is only itself.
+std::vector<MeshCandidate> mesh_candidates(const std::string& mesh_path, const std::string& scene_file);
+
+/// The first of mesh_candidates that is a file; "" when none is.
+std::string find_mesh_file(const std::string& mesh_path, const std::string& scene_file);
 
 /// Reads a whole file; throws InputError(path, "cannot open <what>: <reason>") when it cannot,
 /// including for a directory or a file larger than max_bytes.
