@@ -4,6 +4,7 @@
 // promise that a failed run never leaves or damages an output file. The expectations come from
 // --help, README.md and docs/limits.md (exit 0 success, 1 input or output error, 2 usage error).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <map>
@@ -189,6 +190,39 @@ TEST(CliTest, AnOutputLinkIsWrittenThroughAndItsFolderCheckedFirst) {
     EXPECT_EQ(broken.exit_code, 1);
     EXPECT_EQ(first_line(broken.output), "broken.ppm: error: cannot write image: the folder 'missing' does not exist");
     EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "images", "o.ppm", "broken.ppm"}));
+}
+
+// A system that starts no more threads (ulimit -u reached) gets the render done on the threads
+// there are, with the same image: the helpers' pool and the deep-scene stack thread both fall back
+// (base/parallel.cpp). The limit binds only a user other than root, so the test runs raycast as
+// `nobody` with at most one task, itself, and is skipped where it cannot (not root, no setpriv).
+TEST(CliTest, ARenderWhoseThreadsCannotStartRunsOnTheOnesThereAre) {
+    if (::geteuid() != 0 || run_command("command -v setpriv && command -v prlimit").exit_code != 0)
+        GTEST_SKIP() << "needs root, setpriv and prlimit to run raycast as another user under a process limit";
+    const std::string dir = scene_dir("no_threads");
+    // Nested past the 64 levels that run on the caller's stack: the parser and builder ask for a
+    // thread with a big stack, and do without it.
+    std::string deep = "PerspectiveCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 angle 30 width 32 height 24 }\n"
+                       "Lights { numLights 1 DirectionalLight { direction 0 0 -1 color 1 1 1 } }\n"
+                       "Materials { numMaterials 1 Material { diffuseColor 1 0 0 } }\n";
+    for (int level = 0; level < 80; ++level) deep += "Group { numObjects 1 MaterialIndex 0\n";
+    deep += "Sphere { center 0 0 0 radius 1 }\n";
+    for (int level = 0; level < 80; ++level) deep += "}\n";
+    write_file(dir + "/deep.txt", deep);
+    ASSERT_EQ(run_command("chmod 777 '" + dir + "' && cp '" RAYCAST_EXECUTABLE "' '" + dir + "/raycast' && chmod 755 '" +
+                          dir + "/raycast'").exit_code, 0);
+    // In a sanitizer build, LeakSanitizer's check at exit needs a thread of its own: off here.
+    const std::string as_nobody = "cd '" + dir + "' && ASAN_OPTIONS=\"${ASAN_OPTIONS}:detect_leaks=0\" prlimit " +
+                                  "--nproc=1:1 setpriv --reuid=65534 --regid=65534 --clear-groups ";
+    // The limit holds: nobody's shell cannot start a second process.
+    EXPECT_NE(run_command(as_nobody + "sh -c 'true & wait' 2>&1").exit_code, 0);
+    for (const char* scene : {"s.txt", "deep.txt"}) {
+        SCOPED_TRACE(scene);
+        const RunResult limited = run_command(as_nobody + "./raycast " + scene + " limited.ppm -j 4 -q 2>&1");
+        ASSERT_EQ(limited.exit_code, 0) << limited.output;
+        ASSERT_EQ(run_raycast(std::string(scene) + " free.ppm -j 4 -q", dir).exit_code, 0);
+        EXPECT_EQ(read_file(dir + "/limited.ppm"), read_file(dir + "/free.ppm"));
+    }
 }
 
 // Mirrors and glass deep in --bounces can take hours: the first camera sample that reaches its ray
