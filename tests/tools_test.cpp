@@ -45,7 +45,7 @@ TEST(ToolsTest, MeshgenWritesWholeMeshesOrNone) {
     const std::string dir = temp_dir("tools/meshgen_write");
     const RunResult missing = run_tool("raycast_meshgen", "terrain 1000 no_such_folder/a.obj", dir);
     EXPECT_EQ(missing.exit_code, 1);
-    EXPECT_EQ(missing.output, "raycast_meshgen: cannot write no_such_folder/a.obj: No such file or directory\n");
+    EXPECT_EQ(missing.output, "no_such_folder/a.obj: error: cannot write OBJ file: No such file or directory\n");
     EXPECT_TRUE(files_in(dir).empty());
     const RunResult made = run_tool("raycast_meshgen", "bumpy-sphere 1000 m.obj --bumps 0.1 --seed 7", dir);
     ASSERT_EQ(made.exit_code, 0) << made.output;

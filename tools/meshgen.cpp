@@ -3,7 +3,6 @@
 // SHAPE is bumpy-sphere (a closed, watertight mesh: every edge shared by two triangles),
 // terrain (a height field over [-1, 1]²) or torus. The count is a target: the mesh gets the
 // nearest count its grid allows, and the tool prints the exact one.
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -16,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "base/error.h"
 #include "base/write_file.h"
 
 namespace {
@@ -153,26 +153,16 @@ size_t triangle_count(const Mesh& mesh) {
     return count;
 }
 
-// Writes the OBJ to a temporary file beside `path`, then renames it: a failed write (a full disk)
-// had left a mesh cut mid-line at `path`, and one cut at a line's end would load as a smaller
-// mesh with no error. Returns the error's text, or "" on success.
-std::string write_obj(const Mesh& mesh, const std::string& output, const std::string& header) {
-    // A link is written through, its target replaced (raycast::replaced_path).
-    int link_error = 0;
-    const std::string path = raycast::replaced_path(output, link_error);
-    if (link_error != 0) return std::strerror(link_error);
-    // A pipe or a device (/dev/stdout, >(gzip)) is written into: a rename would put a plain file
-    // in its place.
-    struct stat info;
-    const bool special = ::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode);
-    const size_t slash = path.rfind('/');
-    const std::string folder = slash == std::string::npos ? "" : path.substr(0, slash + 1);
-    const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-    // Within NAME_MAX whatever the name's length.
-    const std::string temporary =
-        special ? path : folder + "." + name.substr(0, 100) + ".tmp" + std::to_string(static_cast<long>(::getpid()));
-    std::FILE* file = std::fopen(temporary.c_str(), "wb");
-    if (!file) return std::strerror(errno);
+// Writes the OBJ text to `fd`, formatted as it goes (a mesh of millions of triangles is never
+// held as text); returns 0 or the errno of a failed write.
+int write_obj_text(int fd, const Mesh& mesh, const std::string& header) {
+    const int own = ::dup(fd);  // fclose closes it; the writer closes fd
+    std::FILE* file = own < 0 ? nullptr : ::fdopen(own, "wb");
+    if (!file) {
+        const int error = errno;
+        if (own >= 0) ::close(own);
+        return error;
+    }
     std::fprintf(file, "# %s\n", header.c_str());
     std::vector<char> buffer(1 << 20);
     std::setvbuf(file, buffer.data(), _IOFBF, buffer.size());
@@ -193,10 +183,7 @@ std::string write_obj(const Mesh& mesh, const std::string& output, const std::st
     }
     int error = std::ferror(file) ? (errno != 0 ? errno : EIO) : 0;
     if (std::fclose(file) != 0 && error == 0) error = errno;
-    if (error == 0 && !special && std::rename(temporary.c_str(), path.c_str()) != 0) error = errno;
-    if (error == 0) return "";
-    if (!special) std::remove(temporary.c_str());
-    return std::strerror(error);
+    return error;
 }
 
 // A number as a whole argument: "1e3junk", "0x100", "nan" and "inf" are refused (atof had read
@@ -282,9 +269,13 @@ int generate(int argc, char** argv) {
     const size_t triangles = triangle_count(mesh);
     const std::string header = "raycast_meshgen " + shape + " " + std::to_string(triangles) + " triangles, seed " +
                                std::to_string(seed);
-    const std::string error = write_obj(mesh, output, header);
-    if (!error.empty()) {
-        std::fprintf(stderr, "raycast_meshgen: cannot write %s: %s\n", output.c_str(), error.c_str());
+    // As raycast writes its images (base/write_file.h): a temporary file renamed into place, so a
+    // failed write (a full disk) leaves no mesh cut mid-line, which, cut at a line's end, would
+    // load as a smaller mesh with no error; links written through, pipes and devices into.
+    try {
+        raycast::write_file_atomically(output, [&](int fd) { return write_obj_text(fd, mesh, header); }, "OBJ file");
+    } catch (const raycast::InputError& error) {
+        std::fputs(error.what(), stderr);  // "OUTPUT: error: cannot write OBJ file: <reason>", as raycast says it
         return 1;
     }
     std::printf("%s: %zu vertices, %zu triangles\n", output.c_str(), mesh.positions.size() / 3, triangles);

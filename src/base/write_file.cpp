@@ -7,23 +7,26 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <functional>
 
 #include "base/error.h"
 
 namespace raycast {
 namespace {
 
-// A file to write: where, and its bytes (not owned).
+// A file to write: where, and what writes its bytes to an open file descriptor (returning 0, or
+// the errno of a failed write).
 struct Pending {
     const std::string& path;
-    std::string_view bytes;
+    std::function<int(int fd)> fill;
 };
 
 InputError cannot_write(const std::string& path, const char* what, int error) {
     return InputError(path, std::string("cannot write ") + what + ": " + std::strerror(error));
 }
 
-// Returns 0, or the errno of the failed write.
+// Writes all the bytes (again where a write stops short or is interrupted); returns 0, or the
+// errno of the failed write.
 int write_all(int fd, std::string_view bytes) {
     size_t done = 0;
     while (done < bytes.size()) {
@@ -55,7 +58,7 @@ std::string write_temporary(const Pending& file, const std::string& target, cons
         if (fd < 0 && errno != EEXIST) break;
     }
     if (fd < 0) throw cannot_write(file.path, what, errno);
-    int error = write_all(fd, file.bytes);
+    int error = file.fill(fd);
     // Without fsync a crash soon after rename() could leave an empty file in place of both versions.
     if (error == 0 && ::fsync(fd) != 0) error = errno;
     if (::close(fd) != 0 && error == 0) error = errno;
@@ -79,7 +82,7 @@ bool is_special_file(const std::string& path) {
 void write_in_place(const Pending& file, const char* what) {
     const int fd = ::open(file.path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
     if (fd < 0) throw cannot_write(file.path, what, errno);
-    int error = write_all(fd, file.bytes);
+    int error = file.fill(fd);
     if (::close(fd) != 0 && error == 0) error = errno;
     if (error != 0) throw cannot_write(file.path, what, error);
 }
@@ -117,6 +120,11 @@ void write_together(const std::vector<Pending>& files, const char* what) {
         if (special[i]) write_in_place(files[i], what);
 }
 
+// Writes the bytes whole.
+std::function<int(int)> fill_with(std::string_view bytes) {
+    return [bytes](int fd) { return write_all(fd, bytes); };
+}
+
 std::string_view view_of(const std::vector<uint8_t>& bytes) {
     return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
 }
@@ -149,16 +157,20 @@ std::string replaced_path(const std::string& path, int& error) {
 void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files,
                             const char* what) {
     std::vector<Pending> pending;
-    for (const auto& [path, bytes] : files) pending.push_back({path, view_of(bytes)});
+    for (const auto& [path, bytes] : files) pending.push_back({path, fill_with(view_of(bytes))});
     write_together(pending, what);
 }
 
 void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes, const char* what) {
-    write_together({{path, view_of(bytes)}}, what);
+    write_together({{path, fill_with(view_of(bytes))}}, what);
 }
 
 void write_file_atomically(const std::string& path, std::string_view text, const char* what) {
-    write_together({{path, text}}, what);
+    write_together({{path, fill_with(text)}}, what);
+}
+
+void write_file_atomically(const std::string& path, const std::function<int(int fd)>& fill, const char* what) {
+    write_together({{path, fill}}, what);
 }
 
 }  // namespace raycast

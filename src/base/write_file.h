@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -27,5 +28,9 @@ void write_files_atomically(const std::vector<std::pair<std::string, std::vector
 /// One file, as above.
 void write_file_atomically(const std::string& path, const std::vector<uint8_t>& bytes, const char* what);
 void write_file_atomically(const std::string& path, std::string_view text, const char* what);
+
+/// One file whose bytes are made as they are written (a mesh too big to hold as text): `fill`
+/// writes them to the file descriptor it is given and returns 0, or the errno of a failed write.
+void write_file_atomically(const std::string& path, const std::function<int(int fd)>& fill, const char* what);
 
 }  // namespace raycast
