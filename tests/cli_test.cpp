@@ -189,7 +189,31 @@ TEST(CliTest, AnOutputLinkIsWrittenThroughAndItsFolderCheckedFirst) {
     const RunResult broken = run_raycast("s.txt broken.ppm", dir);
     EXPECT_EQ(broken.exit_code, 1);
     EXPECT_EQ(first_line(broken.output), "broken.ppm: error: cannot write image: the folder 'missing' does not exist");
-    EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "images", "o.ppm", "broken.ppm"}));
+    // Two names of one file, one of them through a link, the file there or not yet: the last
+    // image written had replaced the first in silence.
+    ASSERT_EQ(run_command("cd '" + dir + "' && ln -s d.ppm later.ppm").exit_code, 0);
+    for (const char* arguments : {"s.txt images/latest.ppm --depth o.ppm", "s.txt d.ppm --normals later.ppm"}) {
+        const RunResult twice = run_raycast(arguments, dir);
+        EXPECT_EQ(twice.exit_code, 2) << arguments;
+        EXPECT_NE(twice.output.find("give each its own name"), std::string::npos) << twice.output;
+    }
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "images", "o.ppm", "broken.ppm", "later.ppm"}));
+}
+
+// Another user's link in a sticky folder such as /tmp is not followed, as the kernel's
+// fs.protected_symlinks follows none: anyone could have pointed it at the user's own files.
+TEST(CliTest, AnotherUsersLinkInAStickyFolderIsRefusedBeforeTheRender) {
+    if (::geteuid() != 0) GTEST_SKIP() << "needs root to make a link that belongs to another user";
+    const std::string dir = scene_dir("sticky_link");
+    write_file(dir + "/notes.txt", "precious\n");
+    ASSERT_EQ(run_command("chmod 1777 '" + dir + "' && ln -s notes.txt '" + dir + "/out.ppm' && chown -h 65534 '" +
+                          dir + "/out.ppm'").exit_code, 0);
+    const RunResult run = run_raycast("s.txt out.ppm", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(first_line(run.output),
+              "out.ppm: error: cannot write image: it is another user's link in a sticky folder (as /tmp is), which is "
+              "not followed, as the system follows none: choose another name");
+    EXPECT_EQ(read_file(dir + "/notes.txt"), "precious\n");
 }
 
 // A system that starts no more threads (ulimit -u reached) gets the render done on the threads

@@ -3,6 +3,10 @@
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <linux/magic.h>
+#include <sys/vfs.h>
+#endif
 
 #include <atomic>
 #include <cerrno>
@@ -58,7 +62,14 @@ std::string write_temporary(const Pending& file, const std::string& target, cons
         if (fd < 0 && errno != EEXIST) break;
     }
     if (fd < 0) throw cannot_write(file.path, what, errno);
-    int error = file.fill(fd);
+    int error = 0;
+    try {
+        error = file.fill(fd);
+    } catch (...) {  // out of memory while making the bytes, say: no temporary is left behind
+        ::close(fd);
+        ::unlink(temporary.c_str());
+        throw;
+    }
     // Without fsync a crash soon after rename() could leave an empty file in place of both versions.
     if (error == 0 && ::fsync(fd) != 0) error = errno;
     if (::close(fd) != 0 && error == 0) error = errno;
@@ -72,17 +83,72 @@ std::string write_temporary(const Pending& file, const std::string& target, cons
 // How many links replaced_path follows: Linux's own limit for a path (MAXSYMLINKS).
 constexpr int kMaxLinksFollowed = 40;
 
-// Whether `path` is something other than a plain file (a pipe, a terminal, /dev/null): written
-// into, not replaced by a rename, which would put a plain file in its place.
-bool is_special_file(const std::string& path) {
-    struct stat info;
-    return ::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode);
+// The folder a path names its last component in.
+std::string folder_of(const std::string& path) {
+    const size_t slash = path.rfind('/');
+    return slash == std::string::npos ? std::string(".") : (slash == 0 ? std::string("/") : path.substr(0, slash));
+}
+
+// Whether the folder of `path` is in /proc (however reached: /dev/fd is a link to /proc/self/fd).
+bool in_proc(const std::string& path) {
+#ifdef __linux__
+    struct statfs fs;
+    return ::statfs(folder_of(path).c_str(), &fs) == 0 && fs.f_type == PROC_SUPER_MAGIC;
+#else
+    return path.compare(0, 6, "/proc/") == 0;
+#endif
+}
+
+// replaced_path's walk. `through_proc` is set when a link on the way lies in /proc, where links to
+// open files (/proc/self/fd/1, what /dev/stdout leads to) read as text that is no path ("pipe:[7]",
+// "/tmp/x (deleted)"): the walk stops there, and only the kernel can follow it.
+std::string follow_links(const std::string& path, int& error, bool& through_proc) {
+    error = 0;
+    through_proc = false;
+    std::string current = path;
+    for (int followed = 0;; ++followed) {
+        struct stat entry;
+        if (::lstat(current.c_str(), &entry) != 0 || !S_ISLNK(entry.st_mode)) return current;
+        if (in_proc(current)) {
+            through_proc = true;
+            return current;
+        }
+        if (followed == kMaxLinksFollowed) {
+            error = ELOOP;
+            return path;
+        }
+        // As the kernel's fs.protected_symlinks (on by default in most distributions): a link in a
+        // sticky folder anyone may write to (/tmp) is followed only by its owner or the folder's,
+        // so that no one can point another user's output at that user's files.
+        struct stat folder;
+        if (::stat(folder_of(current).c_str(), &folder) == 0 && (folder.st_mode & S_ISVTX) &&
+            (folder.st_mode & S_IWOTH) && entry.st_uid != ::geteuid() && entry.st_uid != folder.st_uid) {
+            error = EACCES;
+            return path;
+        }
+        std::string target(static_cast<size_t>(entry.st_size > 0 ? entry.st_size : 256) + 1, '\0');
+        const ssize_t length = ::readlink(current.c_str(), target.data(), target.size());
+        if (length <= 0) {  // Linux has no empty links
+            error = length < 0 ? errno : ENOENT;
+            return path;
+        }
+        if (static_cast<size_t>(length) >= target.size()) continue;  // changed meanwhile: read it again
+        target.resize(static_cast<size_t>(length));
+        const size_t slash = current.rfind('/');
+        current = target.front() == '/' || slash == std::string::npos ? target : current.substr(0, slash + 1) + target;
+    }
 }
 
 void write_in_place(const Pending& file, const char* what) {
     const int fd = ::open(file.path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
     if (fd < 0) throw cannot_write(file.path, what, errno);
-    int error = file.fill(fd);
+    int error = 0;
+    try {
+        error = file.fill(fd);
+    } catch (...) {
+        ::close(fd);
+        throw;
+    }
     if (::close(fd) != 0 && error == 0) error = errno;
     if (error != 0) throw cannot_write(file.path, what, error);
 }
@@ -92,7 +158,7 @@ void write_in_place(const Pending& file, const char* what) {
 // step, rarely fails; then the temporaries left are removed). Special files are written last.
 void write_together(const std::vector<Pending>& files, const char* what) {
     std::vector<bool> special;
-    for (const Pending& file : files) special.push_back(is_special_file(file.path));
+    for (const Pending& file : files) special.push_back(written_in_place(file.path));
     // A link is written through: its target is replaced, and the link left as it is.
     std::vector<std::string> targets;
     for (size_t i = 0; i < files.size(); ++i) {
@@ -132,26 +198,17 @@ std::string_view view_of(const std::vector<uint8_t>& bytes) {
 }  // namespace
 
 std::string replaced_path(const std::string& path, int& error) {
-    error = 0;
-    std::string current = path;
-    for (int followed = 0;; ++followed) {
-        struct stat entry;
-        if (::lstat(current.c_str(), &entry) != 0 || !S_ISLNK(entry.st_mode)) return current;
-        if (followed == kMaxLinksFollowed) {
-            error = ELOOP;
-            return path;
-        }
-        std::string target(static_cast<size_t>(entry.st_size > 0 ? entry.st_size : 256) + 1, '\0');
-        const ssize_t length = ::readlink(current.c_str(), target.data(), target.size());
-        if (length <= 0) {  // Linux has no empty links
-            error = length < 0 ? errno : ENOENT;
-            return path;
-        }
-        if (static_cast<size_t>(length) >= target.size()) continue;  // changed meanwhile: read it again
-        target.resize(static_cast<size_t>(length));
-        const size_t slash = current.rfind('/');
-        current = target.front() == '/' || slash == std::string::npos ? target : current.substr(0, slash + 1) + target;
-    }
+    bool through_proc = false;
+    return follow_links(path, error, through_proc);
+}
+
+bool written_in_place(const std::string& path) {
+    struct stat info;
+    if (::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode)) return true;
+    int error = 0;
+    bool through_proc = false;
+    follow_links(path, error, through_proc);
+    return through_proc;
 }
 
 void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files,

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -9,7 +10,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <iterator>
+#include <new>
 #include <string>
 #include <thread>
 
@@ -109,6 +112,64 @@ TEST(WriteFileTest, ALoopOfLinksIsRefused) {
     std::remove(a.c_str());
     std::remove(b.c_str());
     EXPECT_EQ(::rmdir(dir.c_str()), 0) << "a temporary was left behind";
+}
+
+// Another user's link in a sticky folder anyone may write to (/tmp) is not followed, as the
+// kernel's fs.protected_symlinks follows none: such a link had let anyone point another user's
+// image at that user's files. Root's test makes the link nobody's with lchown.
+TEST(WriteFileTest, AnotherUsersLinkInAStickyFolderIsNotFollowed) {
+    if (::geteuid() != 0) GTEST_SKIP() << "needs root to give a link to another user";
+    const std::string dir = fresh_dir();
+    ASSERT_EQ(::chmod(dir.c_str(), 01777), 0);
+    const std::string victim = dir + "/notes.txt", link = dir + "/out.ppm";
+    write_file_atomically(victim, std::string_view("precious"), "file");
+    ASSERT_EQ(::symlink("notes.txt", link.c_str()), 0);
+    ASSERT_EQ(::lchown(link.c_str(), 65534, 65534), 0);
+    int error = 0;
+    EXPECT_EQ(replaced_path(link, error), link);
+    EXPECT_EQ(error, EACCES);
+    EXPECT_THROW(write_file_atomically(link, std::string_view("image"), "image"), InputError);
+    EXPECT_EQ(contents(victim), "precious");
+    // Its owner's own link, or one in a folder that is not sticky, is followed.
+    ASSERT_EQ(::lchown(link.c_str(), 0, 0), 0);
+    EXPECT_EQ(replaced_path(link, error), victim);
+    EXPECT_EQ(error, 0);
+    std::remove(link.c_str());
+    std::remove(victim.c_str());
+    std::remove(dir.c_str());
+}
+
+// A fill function that throws (out of memory while it makes the bytes) leaves no temporary.
+TEST(WriteFileTest, AFillThatThrowsLeavesNothingBehind) {
+    const std::string dir = fresh_dir();
+    const std::function<int(int)> failing = [](int fd) -> int {
+        if (::write(fd, "partial", 7) != 7) return EIO;
+        throw std::bad_alloc();
+    };
+    EXPECT_THROW(write_file_atomically(dir + "/mesh.obj", failing, "OBJ file"), std::bad_alloc);
+    EXPECT_EQ(::rmdir(dir.c_str()), 0) << "a temporary was left behind";
+}
+
+// /dev/stdout and /dev/fd/N lead through /proc's links to open files, whose text is no path
+// ("pipe:[7]", "/tmp/x (deleted)"): such outputs are written into, as the shell's > writes them,
+// never renamed onto (a stray file named "x (deleted)" had been made).
+TEST(WriteFileTest, OpenFilesNamedThroughProcAreWrittenInto) {
+    EXPECT_TRUE(written_in_place("/dev/stdout"));
+    EXPECT_TRUE(written_in_place("/dev/null"));
+    const std::string dir = fresh_dir();
+    const std::string gone = dir + "/gone.obj";
+    const int fd = ::open(gone.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::unlink(gone.c_str()), 0);
+    const std::string through = "/dev/fd/" + std::to_string(fd);
+    EXPECT_FALSE(written_in_place(dir + "/plain.obj"));
+    EXPECT_TRUE(written_in_place(through));
+    write_file_atomically(through, std::string_view("v 0 0 0\n"), "OBJ file");
+    struct stat info;
+    ASSERT_EQ(::fstat(fd, &info), 0);
+    EXPECT_EQ(info.st_size, 8);
+    ::close(fd);
+    EXPECT_EQ(::rmdir(dir.c_str()), 0) << "a stray file was made";
 }
 
 }  // namespace

@@ -73,8 +73,8 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
     struct stat existing;
     const bool found = ::stat(path.c_str(), &existing) == 0;
     if (found && S_ISDIR(existing.st_mode)) throw InputError(path, "cannot write image: it is a directory");
-    // A pipe or a device is written into (base/write_file.h): no rename, no folder to check.
-    if (found && !S_ISREG(existing.st_mode)) {
+    // A pipe, a device or /dev/stdout is written into (written_in_place): no rename, no folder to check.
+    if (written_in_place(path)) {
         if (::access(path.c_str(), W_OK) != 0)
             throw InputError(path, std::string("cannot write image: ") + std::strerror(errno));
         return;
@@ -83,6 +83,9 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
     // file's folder, whose entry's owner is the one a sticky folder asks about.
     int link_error = 0;
     const std::string target = replaced_path(path, link_error);
+    if (link_error == EACCES)
+        throw InputError(path, "cannot write image: it is another user's link in a sticky folder (as /tmp is), which "
+                               "is not followed, as the system follows none: choose another name");
     if (link_error != 0) throw InputError(path, std::string("cannot write image: ") + std::strerror(link_error));
     struct stat entry;
     const bool exists = ::lstat(target.c_str(), &entry) == 0;
@@ -105,10 +108,14 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
                                "is) lets only the owner replace it: choose another name");
 }
 
-// The same file named twice, even differently spelt ("out.bmp" and "./out.bmp"): the same
-// string, the same existing file, or the same name in the same folder.
-bool same_output(const std::string& a, const std::string& b) {
-    if (a == b || same_file(a, b)) return true;
+// The same file named twice, even differently spelt ("out.bmp" and "./out.bmp") or through a link
+// (written through, replaced_path): the same string, the same existing file, or the same name in
+// the same folder.
+bool same_output(const std::string& given_a, const std::string& given_b) {
+    if (given_a == given_b || same_file(given_a, given_b)) return true;
+    int error = 0;
+    const std::string a = replaced_path(given_a, error), b = replaced_path(given_b, error);
+    if (a == b) return true;
     auto name_of = [](const std::string& path) { return path.substr(path.find_last_of('/') + 1); };
     if (name_of(a) != name_of(b)) return false;
     struct stat fa, fb;
