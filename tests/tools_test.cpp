@@ -161,5 +161,61 @@ TEST(ToolsTest, RevolveKeepsTheScenesMeshesFoundFromAnotherFolder) {
     EXPECT_EQ(read_file(dir + "/scenes/o.ppm"), read_file(dir + "/o.ppm"));
 }
 
+// The rewritten paths: a mesh that is a link keeps its own name (a later `ln -sf` still reaches
+// it), a folder with a space, a vertical tab or a # in its name is quoted, and a path a scene
+// cannot quote (a quote in it) is left with a warning. An OUTPUT that is a link is written
+// through, and the meshes go beside the file it leads to; one into a missing folder is refused
+// before any mesh is written.
+TEST(ToolsTest, RevolveRewritesMeshPathsAsASceneCanReadThem) {
+    const std::string dir = temp_dir("tools/revolve_paths");
+    const std::string scene =
+        "PerspectiveCamera { center 0 1 8 direction 0 0 -1 up 0 1 0 angle 30 width 16 height 12 }\n"
+        "Lights { numLights 1 DirectionalLight { direction 0 -1 -1 color 1 1 1 } }\n"
+        "Materials { numMaterials 1 Material { diffuseColor 1 1 1 } }\n"
+        "Group { numObjects 2 MaterialIndex 0\n"
+        "  TriangleMesh { obj_file m/quad.obj }\n"
+        "  RevSurface { profile BezierCurve { controls [ 0 0 0 ] [ 1 0.5 0 ] [ 1 1.5 0 ] [ 0 2 0 ] } }\n"
+        "}\n";
+    const std::string quad = "v -2 -1 -2\nv 2 -1 -2\nv 2 2 -2\nv -2 2 -2\nf 1 2 3 4\n";
+    ASSERT_EQ(run_command("cd '" + dir + "' && mkdir -p out 'sp ace/m' \"$(printf 'v\\vt')/m\" 'q\"d/m' link/m").exit_code, 0);
+    for (const std::string folder : {"sp ace", "v\vt", "q\"d", "link"}) write_file(dir + "/" + folder + "/s.txt", scene);
+    for (const std::string folder : {"sp ace", "v\vt", "q\"d"}) write_file(dir + "/" + folder + "/m/quad.obj", quad);
+    write_file(dir + "/link/m/quad_v1.obj", quad);
+    ASSERT_EQ(run_command("cd '" + dir + "/link/m' && ln -s quad_v1.obj quad.obj").exit_code, 0);
+    const std::pair<std::string, std::string> cases[] = {
+        {"sp ace", "obj_file \"../sp ace/m/quad.obj\""},
+        {"v\vt", "obj_file \"../v\vt/m/quad.obj\""},
+        {"link", "obj_file ../link/m/quad.obj"},
+    };
+    for (const auto& [folder, expected] : cases) {
+        SCOPED_TRACE(folder);
+        const RunResult run = run_tool("raycast_revolve", "'" + folder + "/s.txt' out/o.txt --along 8 --around 8", dir);
+        ASSERT_EQ(run.exit_code, 0) << run.output;
+        EXPECT_NE(read_file(dir + "/out/o.txt").find(expected), std::string::npos) << read_file(dir + "/out/o.txt");
+        const RunResult rendered = run_raycast("o.txt o.ppm --stats -q", dir + "/out");
+        ASSERT_EQ(rendered.exit_code, 0) << rendered.output;
+        EXPECT_NE(rendered.output.find(" triangles=130 "), std::string::npos) << rendered.output;
+    }
+    const RunResult unquotable = run_tool("raycast_revolve", "'q\"d/s.txt' out/o.txt --along 8 --around 8", dir);
+    EXPECT_EQ(unquotable.exit_code, 0) << unquotable.output;
+    EXPECT_NE(unquotable.output.find("q\"d/s.txt:5:27: warning: obj_file 'm/quad.obj' is copied as it is: from "),
+              std::string::npos) << unquotable.output;
+    // OUTPUT as a link: the scene lands where it leads, the meshes beside it.
+    ASSERT_EQ(run_command("cd '" + dir + "' && mkdir elsewhere && ln -s ../elsewhere/e.txt out/e.txt && ln -s "
+                          "../missing/x.txt out/x.txt").exit_code, 0);
+    const RunResult linked = run_tool("raycast_revolve", "link/s.txt out/e.txt --along 8 --around 8", dir);
+    ASSERT_EQ(linked.exit_code, 0) << linked.output;
+    EXPECT_EQ(files_in(dir + "/elsewhere"), (std::set<std::string>{"e.txt", "e.rev0.obj"}));
+    ASSERT_EQ(run_raycast("e.txt e.ppm -q", dir + "/elsewhere").exit_code, 0);
+    const std::set<std::string> before = files_in(dir + "/out");
+    const RunResult missing = run_tool("raycast_revolve", "link/s.txt out/x.txt --along 8 --around 8", dir);
+    EXPECT_EQ(missing.exit_code, 1);
+    EXPECT_EQ(missing.output, "out/x.txt: error: cannot write the scene: the folder 'out/../missing' does not exist\n");
+    EXPECT_EQ(files_in(dir + "/out"), before);
+    const RunResult device = run_tool("raycast_revolve", "link/s.txt /dev/null --along 8 --around 8", dir);
+    EXPECT_EQ(device.exit_code, 2);
+    EXPECT_EQ(device.output, "raycast_revolve: OUTPUT '/dev/null' must be a file: the meshes are written beside it\n");
+}
+
 }  // namespace
 }  // namespace raycast::test

@@ -59,6 +59,11 @@ std::vector<Span> rev_surface_spans(const std::string& text, const std::string& 
     return spans;
 }
 
+std::string base_name(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
 // A piece of the scene's text to replace: [begin, end) by `text`.
 struct Edit {
     size_t begin, end;
@@ -98,8 +103,9 @@ std::string relative_to(const std::string& target, const std::string& from) {
 
 // The edits that keep the scene's own meshes found from OUTPUT's folder, which is not the scene's:
 // a relative obj_file path names the file the scene loads now (load_scene's rule: as written,
-// next to the scene, in its folder's parent), written relative to OUTPUT's folder. A path that
-// names no file, or that could not be written back (a quote, a line break), is copied as it is.
+// next to the scene, in its folder's parent), written relative to OUTPUT's folder (the file's own
+// name kept, a link among them too). A path that names no file is copied as it is; one that
+// cannot be written back (it would hold a quote or a line break) too, with a warning.
 std::vector<Edit> mesh_path_edits(const std::string& text, const std::string& scene, const std::string& output) {
     std::vector<Edit> edits;
     const std::string output_folder = canonical_folder(output);
@@ -113,21 +119,24 @@ std::vector<Edit> mesh_path_edits(const std::string& text, const std::string& sc
             written = written.substr(1, written.size() - 2);
         if (written.empty() || written.front() == '/' || written.front() == '"') continue;
         const std::string found = find_mesh_file(std::string(written), scene);
-        char* resolved = found.empty() ? nullptr : ::realpath(found.c_str(), nullptr);
-        if (!resolved) continue;
-        const std::string moved = relative_to(resolved, output_folder);
-        std::free(resolved);
-        if (moved.find_first_of("\"\n\r") != std::string::npos) continue;
-        const bool quoted = moved.find_first_of(" \t{}#") != std::string::npos;
+        const std::string folder = found.empty() ? std::string() : canonical_folder(found);
+        if (folder.empty()) continue;
+        const std::string moved = relative_to(folder + "/" + base_name(found), output_folder);
+        if (moved == written) continue;
+        if (moved.find_first_of("\"\n\r") != std::string::npos) {
+            std::fprintf(stderr,
+                         "%s:%d:%d: warning: obj_file %s is copied as it is: from %s's folder it would be '%s', "
+                         "which a scene cannot quote\n",
+                         scene.c_str(), path.line, path.column, quote_token(path.text).c_str(), output.c_str(),
+                         moved.c_str());
+            continue;
+        }
+        // Quoted where the lexer would end the token (its spaces, braces, a comment's #).
+        const bool quoted = moved.find_first_of(" \t\v\f{}#") != std::string::npos;
         const size_t begin = static_cast<size_t>(path.text.data() - text.data());
         edits.push_back({begin, begin + path.text.size(), quoted ? "\"" + moved + "\"" : moved});
     }
     return edits;
-}
-
-std::string base_name(const std::string& path) {
-    const size_t slash = path.find_last_of('/');
-    return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
 int count_option(const char* text, const char* name) {
@@ -145,7 +154,7 @@ int run(int argc, char** argv) {
         std::fputs("usage: raycast_revolve SCENE OUTPUT.txt [--along N] [--around M]\n", stderr);
         return 2;
     }
-    const std::string scene = argv[1], output = argv[2];
+    const std::string scene = argv[1], given_output = argv[2];
     int along = 256, around = 256;
     for (int i = 3; i < argc; ++i) {
         if (i + 1 < argc && std::strcmp(argv[i], "--along") == 0)
@@ -169,25 +178,37 @@ int run(int argc, char** argv) {
                      along, around, vertices, kMaxVertices);
         return 2;
     }
-    // Checked before any file is written: the output must not be the scene (its curves were
-    // lost), its name must fit in the scene's quoted obj_file names, and its folder must take it
-    // (the OBJ files, gigabytes, had been written before a failure to write the scene).
+    // Checked before any file is written: the output must be a file (the meshes go beside it) and
+    // not the scene (its curves were lost), its name must fit in the scene's quoted obj_file names,
+    // and its folder must take it (the OBJ files, gigabytes, had been written before a failure to
+    // write the scene). A link is written through (base/write_file.h), and the meshes go beside
+    // the file it leads to.
+    if (written_in_place(given_output)) {
+        std::fprintf(stderr, "raycast_revolve: OUTPUT '%s' must be a file: the meshes are written beside it\n",
+                     given_output.c_str());
+        return 2;
+    }
+    int link_error = 0;
+    const std::string output = replaced_path(given_output, link_error);
+    if (link_error != 0)
+        throw InputError(given_output, std::string("cannot write the scene: ") + std::strerror(link_error));
     struct stat scene_info, output_info;
     if (output == scene || (::stat(scene.c_str(), &scene_info) == 0 && ::stat(output.c_str(), &output_info) == 0 &&
                             scene_info.st_dev == output_info.st_dev && scene_info.st_ino == output_info.st_ino)) {
-        std::fprintf(stderr, "raycast_revolve: OUTPUT '%s' is the scene itself: choose another name\n", output.c_str());
+        std::fprintf(stderr, "raycast_revolve: OUTPUT '%s' is the scene itself: choose another name\n",
+                     given_output.c_str());
         return 2;
     }
     if (base_name(output).find_first_of("\"\n\r") != std::string::npos || base_name(output).empty()) {
         std::fprintf(stderr, "raycast_revolve: OUTPUT '%s' cannot name the meshes in the scene it writes: use a name "
-                             "without quotes\n", output.c_str());
+                             "without quotes\n", given_output.c_str());
         return 2;
     }
     const size_t slash = output.find_last_of('/');
     const std::string folder = slash == std::string::npos ? "." : (slash == 0 ? "/" : output.substr(0, slash));
     if (::access(folder.c_str(), W_OK) != 0)
-        throw InputError(output, "cannot write the scene: the folder '" + folder + "' " +
-                                     (errno == ENOENT ? std::string("does not exist") : std::strerror(errno)));
+        throw InputError(given_output, "cannot write the scene: the folder '" + folder + "' " +
+                                           (errno == ENOENT ? std::string("does not exist") : std::strerror(errno)));
     // As the parser reads it (classic Mac line breaks as LF: one byte for one, so the spans hold).
     std::string converted;
     const std::string text(as_unix_text(read_text_file(scene, "scene file", kMaxSceneFileBytes), converted));
@@ -213,11 +234,12 @@ int run(int argc, char** argv) {
     std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) { return a.begin > b.begin; });
     std::string result = text;
     for (const Edit& edit : edits) result.replace(edit.begin, edit.end - edit.begin, edit.text);
-    write_file_atomically(output, std::string_view(result), "the scene");
+    write_file_atomically(given_output, std::string_view(result), "the scene");
     std::printf("raycast_revolve: %zu surfaces, %zu triangles (%d x %d each)\n", profiles.size(), triangles, along,
                 around);
     if (moved_paths > 0)
-        std::printf("raycast_revolve: %zu mesh paths written relative to %s's folder\n", moved_paths, output.c_str());
+        std::printf("raycast_revolve: %zu mesh paths written relative to %s's folder\n", moved_paths,
+                    given_output.c_str());
     return 0;
 }
 
