@@ -521,6 +521,11 @@ TEST(BadInputTest, SingularTransformsAreRejected) {
          ":25:15: error: a Scale factor of 0 squashes the object flat: the transform could not be inverted"},
         {"transform_singular_matrix.txt",
          ":25:20: error: 'Matrix4f' is singular (its determinant is 0): it cannot be inverted"},
+        // A zero x scale behind a projective last row (column by column: the last row is 1 0 0 0),
+        // which had rendered: the row was dropped one way and used the other.
+        {"transform_projective_matrix.txt",
+         ":25:20: error: the last row of 'Matrix4f' is 1 0 0 0, not 0 0 0 1: raycast's transforms are affine (a "
+         "projective matrix would bend rays into curves)"},
     });
 }
 

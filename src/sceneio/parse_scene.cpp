@@ -856,6 +856,15 @@ private:
         if (!close.is("}"))
             fail(close, "expected '}' after the 16 numbers of " + quote_token(item.text) + ", got " + describe(close));
         const Mat4 file_matrix = item.is("Matrix4f") ? Mat4::from_columns(values) : Mat4::from_rows(values);
+        // Points are moved by the top three rows and the last is taken as 0 0 0 1: a projective
+        // row had been dropped one way and used the other (the object's box did not hold what the
+        // rays hit, which differed by traversal), and could hide a zero scale.
+        const float* last = file_matrix.m[3];
+        if (!(last[0] == 0 && last[1] == 0 && last[2] == 0 && last[3] == 1))
+            fail(first_value, string_printf("the last row of %s is %g %g %g %g, not 0 0 0 1: raycast's transforms are "
+                                            "affine (a projective matrix would bend rays into curves)",
+                                            quote_token(item.text).c_str(), double(last[0]), double(last[1]),
+                                            double(last[2]), double(last[3])));
         if (determinant(file_matrix) == 0)
             fail(first_value, quote_token(item.text) + " is singular (its determinant is 0): it cannot be inverted");
         return file_matrix * m;
