@@ -144,6 +144,8 @@ TEST(CliTest, UsageErrorsExitTwoWithAMessageAndAHint) {
          "the image and -normals are both 'o.ppm': give each its own name"},
         {"-input s.txt -size 8 8 -output o.ppm -depth 9 9 d.ppm", "-depth needs NEAR < FAR, got 9 9"},
         {"s.txt o.ppm --aperture 1e30", "--aperture must be at most 1e+18, raycast's coordinate limit, got 1e+30"},
+        {"s.txt o.ppm --aperture 1 --focus-distance 1e20",
+         "--focus-distance must be at most 1e+18, raycast's coordinate limit, got 1e+20"},
         {"-jx s.txt o.ppm", "-j needs a whole number, got 'x'"},
         {"--threads= s.txt o.ppm", "--threads needs a whole number, got ''"},
         {"--stats=1 s.txt o.ppm", "--stats takes no value, got '1'"},
@@ -247,6 +249,28 @@ TEST(CliTest, ARenderWhoseThreadsCannotStartRunsOnTheOnesThereAre) {
         ASSERT_EQ(run_raycast(std::string(scene) + " free.ppm -j 4 -q", dir).exit_code, 0);
         EXPECT_EQ(read_file(dir + "/limited.ppm"), read_file(dir + "/free.ppm"));
     }
+}
+
+// The thin lens focuses by default on what the image's centre sees; a plane seen at a grazing
+// angle, farther than the coordinate limit, made every lens ray's direction zero (its distance,
+// squared, overflowed) and the image all background, with exit 0.
+TEST(CliTest, AThinLensFocusedFarBeyondTheCoordinateLimitStillSeesTheScene) {
+    const std::string dir = temp_dir("cli/far_focus");
+    write_file(dir + "/far.txt",
+               "PerspectiveCamera { center 0 0 0 direction 0 -0.02 -1 up 0 1 0 angle 40 width 64 height 48 }\n"
+               "Lights { numLights 1 DirectionalLight { direction -0.3 -1 -0.5 color 0.8 0.8 0.8 } }\n"
+               "Materials { numMaterials 1 Material { diffuseColor 0.7 0.6 0.5 } }\n"
+               "Group { numObjects 2 MaterialIndex 0 Plane { normal 0 1 0 offset -5e17 }\n"
+               "  Sphere { center 0 -3 -10 radius 2 } }\n");
+    const RunResult pinhole = run_raycast("far.txt pinhole.ppm --stats -q", dir);
+    const RunResult lens = run_raycast("far.txt lens.ppm --aperture 0.1 --stats -q", dir);
+    ASSERT_EQ(lens.exit_code, 0) << lens.output;
+    const auto hit_fraction = [](const std::string& stats) {
+        const size_t at = stats.find("hit_fraction=");
+        return at == std::string::npos ? -1.0 : std::stod(stats.substr(at + 13));
+    };
+    EXPECT_GT(hit_fraction(pinhole.output), 0.4);
+    EXPECT_NEAR(hit_fraction(lens.output), hit_fraction(pinhole.output), 0.02) << lens.output;
 }
 
 // Mirrors and glass deep in --bounces can take hours: the first camera sample that reaches its ray

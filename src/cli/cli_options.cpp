@@ -499,6 +499,9 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             options.focus_distance = parse_number(args.value_for(arg), arg);
             options.has_focus_distance = true;
             if (!(options.focus_distance > 0)) usage_error("--focus-distance must be positive");
+            if (!(options.focus_distance <= kMaxCoordinate))
+                usage_error(string_printf("--focus-distance must be at most %g, raycast's coordinate limit, got %g",
+                                          double(kMaxCoordinate), double(options.focus_distance)));
         } else if (arg == "--crop") {
             options.render.crop = parse_crop(args.value_for(arg));
             options.render.has_crop = true;

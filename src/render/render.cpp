@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "base/limits.h"
 #include "base/parallel.h"
 #include "base/timer.h"
 #include "render/integrator.h"
@@ -506,7 +507,9 @@ float auto_focus_distance(const Scene& scene, const Camera& camera) {
     Hit hit;
     intersect(scene, ray, camera.t_min, hit);
     if (!hit.is_hit() || !(hit.t > 0)) return 1.0f;
-    return hit.t * dot(ray.direction, camera.direction);
+    // A plane seen at a grazing angle can lie farther than the coordinate limit: the focus is
+    // then as good as at infinity, and kept where the lens's rays can still be made.
+    return std::min(hit.t * dot(ray.direction, camera.direction), kMaxCoordinate);
 }
 
 PixelExplanation explain_pixel(const Scene& scene, const RenderOptions& options, int x, int y) {

@@ -58,7 +58,9 @@ Ray camera_ray(const Camera& camera, float px, float py, float lens_u, float len
     }
     const Vec3f origin = camera.center + camera.lens_radius * r *
                                              (std::cos(phi) * camera.horizontal + std::sin(phi) * camera.up);
-    return {origin, normalize(focus_point - origin)};
+    // A far focus (up to the coordinate limit, and more at a wide angle's edges) puts the point so
+    // far that its distance, squared, overflows: normalize() made every such direction zero.
+    return {origin, normalize_any_length(focus_point - origin)};
 }
 
 }  // namespace raycast
