@@ -271,6 +271,19 @@ TEST(CliTest, AThinLensFocusedFarBeyondTheCoordinateLimitStillSeesTheScene) {
     };
     EXPECT_GT(hit_fraction(pinhole.output), 0.4);
     EXPECT_NEAR(hit_fraction(lens.output), hit_fraction(pinhole.output), 0.02) << lens.output;
+    // An orthographic camera has no lens: --aperture changes nothing, and says so.
+    write_file(dir + "/ortho.txt",
+               "OrthographicCamera { center 0 0 10 direction 0 0 -1 up 0 1 0 size 5 }\n"
+               "Lights { numLights 1 DirectionalLight { direction 0 0 -1 color 1 1 1 } }\n"
+               "Materials { numMaterials 1 Material { diffuseColor 1 1 1 } }\n"
+               "Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1 } }\n");
+    const RunResult ortho = run_raycast("ortho.txt lens.ppm --size 16x16 --aperture 0.5", dir);
+    ASSERT_EQ(ortho.exit_code, 0) << ortho.output;
+    EXPECT_EQ(ortho.output,
+              "raycast: note: --aperture makes a thin lens of a perspective camera; the scene's orthographic camera "
+              "has none, and the image is as sharp as without it\n");
+    ASSERT_EQ(run_raycast("ortho.txt sharp.ppm --size 16x16 -q", dir).exit_code, 0);
+    EXPECT_EQ(read_file(dir + "/lens.ppm"), read_file(dir + "/sharp.ppm"));
 }
 
 // Mirrors and glass deep in --bounces can take hours: the first camera sample that reaches its ray

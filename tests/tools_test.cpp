@@ -96,6 +96,10 @@ TEST(ToolsTest, RevolveChecksItsOutputBeforeWritingAnything) {
         EXPECT_EQ(run.exit_code, 2) << arguments;
         EXPECT_EQ(run.output, std::string(message) + "\n") << arguments;
     }
+    // An option without its value says so ("unknown argument '--around'" had said otherwise).
+    const RunResult no_value = run_tool("raycast_revolve", "s.txt o.txt --along 8 --around", dir);
+    EXPECT_EQ(no_value.exit_code, 2);
+    EXPECT_EQ(no_value.output, "raycast_revolve: --around needs a whole number from 3 to 100000\n");
     // A scene with classic Mac line breaks, which raycast reads, is turned as well.
     std::string mac = scene;
     for (char& c : mac)

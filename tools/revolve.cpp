@@ -161,7 +161,10 @@ int run(int argc, char** argv) {
             along = count_option(argv[++i], "--along");
         else if (i + 1 < argc && std::strcmp(argv[i], "--around") == 0)
             around = count_option(argv[++i], "--around");
-        else {
+        else if (std::strcmp(argv[i], "--along") == 0 || std::strcmp(argv[i], "--around") == 0) {
+            std::fprintf(stderr, "raycast_revolve: %s needs a whole number from 3 to 100000\n", argv[i]);
+            return 2;
+        } else {
             std::fprintf(stderr, "raycast_revolve: unknown argument '%s'\n", argv[i]);
             return 2;
         }

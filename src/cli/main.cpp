@@ -221,6 +221,9 @@ LoadedScene load_and_build(const CliOptions& options, int threads) {
                      "pixels are stretched as the course's handout defines them; --fov vertical gives square pixels\n",
                      camera.width, camera.height,
                      camera.projection == Camera::Projection::Perspective ? "angle" : "size");
+    if (options.aperture > 0 && camera.projection != Camera::Projection::Perspective)
+        std::fprintf(stderr, "raycast: note: --aperture makes a thin lens of a perspective camera; the scene's "
+                             "orthographic camera has none, and the image is as sharp as without it\n");
     const RenderMode mode = options.render.mode;
     if (scene.lights.empty() && scene.ambient == Vec3f{0, 0, 0} && mode == RenderMode::Shaded)
         std::fprintf(stderr, "%s: warning: the scene has no lights and no ambient light: every object will be black\n",

@@ -208,13 +208,16 @@ private:
                 if (combined_moved) {
                     bool invertible = false;
                     const Mat4 object_from_world = inverse(combined, &invertible);
+                    // A product too large for float (1e20 twice) cannot be inverted either: it is
+                    // said as the scale it is; a flat one (a zero scale, or 1e-25 twice, which is
+                    // 0 in float) as what it is.
+                    if (!check_scale(object, combined, invertible ? &object_from_world : nullptr)) return;
                     if (!invertible) {
                         errors_.push_back(error_at(object.location,
                                                    "this transform cannot be inverted (it squashes space flat): "
-                                                   "check for a zero scale"));
+                                                   "check for a zero scale, or scales whose product is 0 in float"));
                         return;
                     }
-                    if (!check_scale(object, combined, object_from_world)) return;
                 }
                 for (const ObjectDesc& child : object.children) add_object(child, combined, combined_moved);
                 return;
@@ -317,7 +320,8 @@ private:
     // of radius 1e-25 under UniformScale 1e25 vanished) and above it when M shrinks. The scale is
     // the largest entry of the linear part of M (or the inverse of M⁻¹'s), the transforms around
     // this one included. True when it is within.
-    bool check_scale(const ObjectDesc& object, const Mat4& world_from_object, const Mat4& object_from_world) {
+    // `object_from_world` is null when M could not be inverted: only M's own scale is checked then.
+    bool check_scale(const ObjectDesc& object, const Mat4& world_from_object, const Mat4* object_from_world) {
         auto largest_linear_entry = [](const Mat4& m) {
             float largest = 0;
             for (int row = 0; row < 3; ++row)
@@ -325,15 +329,17 @@ private:
             return largest;
         };
         const float grows = largest_linear_entry(world_from_object);
-        const float shrinks = largest_linear_entry(object_from_world);
+        const float shrinks = object_from_world ? largest_linear_entry(*object_from_world) : 0.0f;
         if (grows <= kMaxCoordinate && shrinks <= kMaxCoordinate) return true;
-        const bool up = grows > kMaxCoordinate;
+        const bool up = !(grows <= kMaxCoordinate);  // an overflow to infinity too
+        const std::string by = up && !std::isfinite(grows) ? std::string("more than float holds")
+                                                           : string_printf("%g", up ? double(grows) : 1 / double(shrinks));
         errors_.push_back(error_at(
             object.location,
-            string_printf("this transform (with those around it) scales by %g, %s raycast's limit of %g (float "
+            string_printf("this transform (with those around it) scales by %s, %s raycast's limit of %g (float "
                           "arithmetic would %s): %s",
-                          up ? double(grows) : 1 / double(shrinks), up ? "beyond" : "below",
-                          up ? double(kMaxCoordinate) : 1 / double(kMaxCoordinate), up ? "underflow" : "overflow",
+                          by.c_str(), up ? "beyond" : "below", up ? double(kMaxCoordinate) : 1 / double(kMaxCoordinate),
+                          up ? "underflow" : "overflow",
                           up ? "give the objects in it larger coordinates and it a smaller scale"
                              : "give the objects in it smaller coordinates and it a larger scale")));
         return false;

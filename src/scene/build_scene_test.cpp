@@ -322,7 +322,8 @@ TEST(BuildSceneTest, ABallIsTestedBeforeTheMeshInsideItWhateverTheFileOrder) {
 }
 
 const char* const kSingularMessage =
-    "this transform cannot be inverted (it squashes space flat): check for a zero scale";
+    "this transform cannot be inverted (it squashes space flat): check for a zero scale, or scales whose product is 0 "
+    "in float";
 
 // Found by fuzz_render_pipeline (fuzz/regressions/fuzz_render_pipeline-degenerate-triangle-hit): a
 // triangle on one line, (0,0,0) (1,1,1) (2,2,2), seen from a point on that line. The watertight
@@ -348,6 +349,36 @@ TEST(BuildSceneTest, ATriangleWithNoAreaIsNeverHitEvenFromAPointOnItsLine) {
     EXPECT_TRUE(trace(scene, eye, Vec3f{0, 0.1f, 1.7f} - eye).hit);
     EXPECT_EQ(trace(scene, eye, Vec3f{0, 0.1f, 1.7f} - eye).object, 2u);
     EXPECT_FALSE(occluded(scene, Ray{eye, Vec3f{0, 0.1f, 1.8f} - eye}, 0, 1.0f));
+}
+
+// Two scales of 1e20 make a product float cannot hold (infinity), which cannot be inverted
+// either: said as the scale past the limit that it is, not as a zero scale.
+TEST(BuildSceneTest, AScaleProductPastFloatIsNamedAsAScale) {
+    const SceneDesc desc = scene_with(group({transform(
+        Mat4::scale({1e20f, 1e20f, 1e20f}),
+        transform(Mat4::scale({1e20f, 1e20f, 1e20f}), sphere({0, 0, 0}, 1), {"big.txt", 3, 5}), {"big.txt", 2, 1})}));
+    try {
+        build_scene(desc, {});
+        FAIL() << "a scale of 1e40 was accepted";
+    } catch (const InputError& e) {
+        // The outer 1e20 is already past the limit: the error is there, and the inner not reached.
+        ASSERT_EQ(e.diagnostics().size(), 1u);
+        EXPECT_EQ(e.diagnostics()[0].location.line, 2);
+    }
+    const SceneDesc product = scene_with(group({transform(
+        Mat4::scale({1e10f, 1e10f, 1e10f}),
+        transform(Mat4::scale({1e30f, 1e30f, 1e30f}), sphere({0, 0, 0}, 1e-30f), {"big.txt", 3, 5}), {"big.txt", 2, 1})}));
+    try {
+        build_scene(product, {});
+        FAIL() << "a scale of 1e40 was accepted";
+    } catch (const InputError& e) {
+        ASSERT_EQ(e.diagnostics().size(), 1u);
+        EXPECT_EQ(e.diagnostics()[0].location.line, 3);
+        EXPECT_EQ(e.diagnostics()[0].message,
+                  "this transform (with those around it) scales by more than float holds, beyond raycast's limit of "
+                  "1e+18 (float arithmetic would underflow): give the objects in it larger coordinates and it a "
+                  "smaller scale");
+    }
 }
 
 TEST(BuildSceneTest, SingularTransformIsAnInputErrorAtTheTransform) {
