@@ -286,6 +286,25 @@ TEST(CliTest, AThinLensFocusedFarBeyondTheCoordinateLimitStillSeesTheScene) {
     EXPECT_EQ(read_file(dir + "/lens.ppm"), read_file(dir + "/sharp.ppm"));
 }
 
+// A nearly singular transform makes every ray go alone (render_test's
+// ANearlySingularTransformGivesTheSameImageOnEveryPath), and the command line says so, unless
+// the user asked for no packets anyway.
+TEST(CliTest, ANearlySingularTransformSaysItsRaysGoAlone) {
+    const std::string dir = temp_dir("cli/near_singular");
+    write_file(dir + "/n.txt",
+               "PerspectiveCamera { center 0 2 6 direction 0 -0.4 -1 up 0 1 0 angle 50 width 16 height 16 }\n"
+               "Lights { numLights 1 DirectionalLight { direction -0.3 -1 -0.5 color 0.8 0.8 0.8 } }\n"
+               "Materials { numMaterials 1 Material { diffuseColor 0.7 0.6 0.5 } }\n"
+               "Group { numObjects 1 MaterialIndex 0 Transform { Matrix { 0.5 0.6 0.9 0  0.5 0.6 0.9000001 0  "
+               "0.3 0.8 -0.8 0  0 0 0 1 } Sphere { center 0 0 0 radius 1 } } }\n");
+    const RunResult run = run_raycast("n.txt o.ppm", dir);
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(run.output,
+              "raycast: note: a transform in the scene is nearly singular (its condition is 4.12e+07): every ray is "
+              "traced alone, without SIMD packets, so that the image is the same on every path\n");
+    EXPECT_EQ(run_raycast("n.txt o.ppm --no-packets", dir).output, "");
+}
+
 // Mirrors and glass deep in --bounces can take hours: the first camera sample that reaches its ray
 // limit makes a note at once (once), and the count comes at the end; -q says neither.
 TEST(CliTest, ARenderReachingTheRayLimitSaysSoAtOnce) {

@@ -221,6 +221,11 @@ LoadedScene load_and_build(const CliOptions& options, int threads) {
                      "pixels are stretched as the course's handout defines them; --fov vertical gives square pixels\n",
                      camera.width, camera.height,
                      camera.projection == Camera::Projection::Perspective ? "angle" : "size");
+    if (options.render.packet_isa != PacketIsa::None && scene.worst_transform_condition > kMaxPacketCondition)
+        std::fprintf(stderr,
+                     "raycast: note: a transform in the scene is nearly singular (its condition is %.3g): every ray "
+                     "is traced alone, without SIMD packets, so that the image is the same on every path\n",
+                     double(scene.worst_transform_condition));
     if (options.aperture > 0 && camera.projection != Camera::Projection::Perspective)
         std::fprintf(stderr, "raycast: note: --aperture makes a thin lens of a perspective camera; the scene's "
                              "orthographic camera has none, and the image is as sharp as without it\n");

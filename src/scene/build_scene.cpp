@@ -330,7 +330,10 @@ private:
         };
         const float grows = largest_linear_entry(world_from_object);
         const float shrinks = object_from_world ? largest_linear_entry(*object_from_world) : 0.0f;
-        if (grows <= kMaxCoordinate && shrinks <= kMaxCoordinate) return true;
+        if (grows <= kMaxCoordinate && shrinks <= kMaxCoordinate) {
+            scene_.worst_transform_condition = std::fmax(scene_.worst_transform_condition, grows * shrinks);
+            return true;
+        }
         const bool up = !(grows <= kMaxCoordinate);  // an overflow to infinity too
         const std::string by = up && !std::isfinite(grows) ? std::string("more than float holds")
                                                            : string_printf("%g", up ? double(grows) : 1 / double(shrinks));

@@ -116,8 +116,19 @@ int packet_isa_lanes(PacketIsa isa) {
     return 1;
 }
 
-PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa) : scene_(scene), isa_(isa), kernel_(kernel_for(isa)) {
+namespace {
+
+// The instruction set a tracer uses for `scene`: the one asked for, or none (every ray alone)
+// where a transform is so badly conditioned that the paths could disagree (kMaxPacketCondition).
+PacketIsa isa_for(const Scene& scene, PacketIsa isa) {
     RAYCAST_CHECK(packet_isa_available(isa));
+    return scene.worst_transform_condition <= kMaxPacketCondition ? isa : PacketIsa::None;
+}
+
+}  // namespace
+
+PacketTracer::PacketTracer(const Scene& scene, PacketIsa isa)
+    : scene_(scene), isa_(isa_for(scene, isa)), kernel_(kernel_for(isa_)) {
     meshes_.reserve(scene.meshes.size());
     for (const MeshShape& mesh : scene.meshes)
         meshes_.push_back({mesh.bvh.empty() ? nullptr : mesh.bvh.nodes.data(),

@@ -57,10 +57,20 @@ struct SurfaceLanes {
 void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const int* lanes, int count,
                     SurfaceLanes& out);
 
+/// Above this Scene::worst_transform_condition, packets trace ray by ray. A transform near
+/// singular (two rows of a Matrix almost alike, its inverse's entries near 1e7) rounds the rays
+/// it moves into an object's space so much that a shape's test can report a hit a hair outside
+/// the box the object has in the world; whether a ray reaches that test then depends on the
+/// traversal's box tests, and `--shadows` and `--mode ao` images differed between instruction
+/// sets by a few pixels. Ray by ray every path is the same code. Such scenes agreed across paths
+/// at a condition of 1e6 and differed at 1e7 (docs/limits.md); the limit keeps a margin below.
+constexpr float kMaxPacketCondition = 1e5f;
+
 /// Traces packets of rays through one scene with one instruction set.
 class PacketTracer {
 public:
-    /// `isa` must be available; PacketIsa::None traces ray by ray.
+    /// `isa` must be available; PacketIsa::None traces ray by ray, and so does every instruction
+    /// set in a scene past kMaxPacketCondition (isa() then says None).
     PacketTracer(const Scene& scene, PacketIsa isa);
 
     PacketIsa isa() const { return isa_; }

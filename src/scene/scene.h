@@ -73,6 +73,9 @@ struct Scene {
     std::vector<MeshShape> meshes;
     std::vector<RevSurface> rev_surfaces;  ///< in object space, like meshes
     std::vector<Mat4> object_from_world;  ///< inverse transforms, M⁻¹, of instances that have one
+    /// The largest condition of any transform (its linear part's largest entry times its
+    /// inverse's): how much rounding the trip into an object's space can grow. 1 with none.
+    float worst_transform_condition = 1;
 
     std::vector<Instance> instances;
     Bounds3f bounds;  ///< of every bounded object in world space (planes are not); empty if none
