@@ -72,9 +72,7 @@ struct Edit {
 
 // The folder a path is in, made absolute and canonical ("" when it cannot be).
 std::string canonical_folder(const std::string& path) {
-    const size_t slash = path.find_last_of('/');
-    const std::string folder = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-    char* resolved = ::realpath(folder.c_str(), nullptr);
+    char* resolved = ::realpath(folder_of(path).c_str(), nullptr);
     if (!resolved) return {};
     std::string result(resolved);
     std::free(resolved);
@@ -186,15 +184,15 @@ int run(int argc, char** argv) {
     // and its folder must take it (the OBJ files, gigabytes, had been written before a failure to
     // write the scene). A link is written through (base/write_file.h), and the meshes go beside
     // the file it leads to.
-    if (written_in_place(given_output)) {
+    const WriteTarget destination = write_target(given_output);
+    if (destination.in_place) {
         std::fprintf(stderr, "raycast_revolve: OUTPUT '%s' must be a file: the meshes are written beside it\n",
                      given_output.c_str());
         return 2;
     }
-    int link_error = 0;
-    const std::string output = replaced_path(given_output, link_error);
-    if (link_error != 0)
-        throw InputError(given_output, std::string("cannot write the scene: ") + std::strerror(link_error));
+    if (destination.error != 0)
+        throw InputError(given_output, std::string("cannot write the scene: ") + std::strerror(destination.error));
+    const std::string& output = destination.file;
     struct stat scene_info, output_info;
     if (output == scene || (::stat(scene.c_str(), &scene_info) == 0 && ::stat(output.c_str(), &output_info) == 0 &&
                             scene_info.st_dev == output_info.st_dev && scene_info.st_ino == output_info.st_ino)) {
@@ -207,8 +205,7 @@ int run(int argc, char** argv) {
                              "without quotes\n", given_output.c_str());
         return 2;
     }
-    const size_t slash = output.find_last_of('/');
-    const std::string folder = slash == std::string::npos ? "." : (slash == 0 ? "/" : output.substr(0, slash));
+    const std::string folder = folder_of(output);
     if (::access(folder.c_str(), W_OK) != 0)
         throw InputError(given_output, "cannot write the scene: the folder '" + folder + "' " +
                                            (errno == ENOENT ? std::string("does not exist") : std::strerror(errno)));

@@ -44,7 +44,7 @@ int write_all(int fd, std::string_view bytes) {
     return 0;
 }
 
-// Writes the bytes to a fresh temporary file beside `target` (the file's replaced_path; fsync'ed)
+// Writes the bytes to a fresh temporary file beside `target` (the file's WriteTarget; fsync'ed)
 // and returns its name; on any failure removes it and throws, naming the file as it was given.
 std::string write_temporary(const Pending& file, const std::string& target, const char* what) {
     const size_t slash = target.rfind('/');
@@ -80,14 +80,8 @@ std::string write_temporary(const Pending& file, const std::string& target, cons
     return temporary;
 }
 
-// How many links replaced_path follows: Linux's own limit for a path (MAXSYMLINKS).
+// How many links write_target follows: Linux's own limit for a path (MAXSYMLINKS).
 constexpr int kMaxLinksFollowed = 40;
-
-// The folder a path names its last component in.
-std::string folder_of(const std::string& path) {
-    const size_t slash = path.rfind('/');
-    return slash == std::string::npos ? std::string(".") : (slash == 0 ? std::string("/") : path.substr(0, slash));
-}
 
 // Whether the folder of `path` is in /proc (however reached: /dev/fd is a link to /proc/self/fd).
 bool in_proc(const std::string& path) {
@@ -99,39 +93,26 @@ bool in_proc(const std::string& path) {
 #endif
 }
 
-// replaced_path's walk. `through_proc` is set when a link on the way lies in /proc, where links to
-// open files (/proc/self/fd/1, what /dev/stdout leads to) read as text that is no path ("pipe:[7]",
-// "/tmp/x (deleted)"): the walk stops there, and only the kernel can follow it.
-std::string follow_links(const std::string& path, int& error, bool& through_proc) {
-    error = 0;
-    through_proc = false;
+// write_target's walk along the links. It stops at a link in /proc, where links to open files
+// (/proc/self/fd/1, what /dev/stdout leads to) read as text that is no path ("pipe:[7]",
+// "/tmp/x (deleted)"): only the kernel can follow those, and the file is written in place.
+WriteTarget follow_links(const std::string& path) {
     std::string current = path;
     for (int followed = 0;; ++followed) {
         struct stat entry;
-        if (::lstat(current.c_str(), &entry) != 0 || !S_ISLNK(entry.st_mode)) return current;
-        if (in_proc(current)) {
-            through_proc = true;
-            return current;
-        }
-        if (followed == kMaxLinksFollowed) {
-            error = ELOOP;
-            return path;
-        }
+        if (::lstat(current.c_str(), &entry) != 0 || !S_ISLNK(entry.st_mode)) return {current, false, 0};
+        if (in_proc(current)) return {path, true, 0};
+        if (followed == kMaxLinksFollowed) return {path, false, ELOOP};
         // As the kernel's fs.protected_symlinks (on by default in most distributions): a link in a
         // sticky folder anyone may write to (/tmp) is followed only by its owner or the folder's,
         // so that no one can point another user's output at that user's files.
         struct stat folder;
         if (::stat(folder_of(current).c_str(), &folder) == 0 && (folder.st_mode & S_ISVTX) &&
-            (folder.st_mode & S_IWOTH) && entry.st_uid != ::geteuid() && entry.st_uid != folder.st_uid) {
-            error = EACCES;
-            return path;
-        }
+            (folder.st_mode & S_IWOTH) && entry.st_uid != ::geteuid() && entry.st_uid != folder.st_uid)
+            return {path, false, EACCES};
         std::string target(static_cast<size_t>(entry.st_size > 0 ? entry.st_size : 256) + 1, '\0');
         const ssize_t length = ::readlink(current.c_str(), target.data(), target.size());
-        if (length <= 0) {  // Linux has no empty links
-            error = length < 0 ? errno : ENOENT;
-            return path;
-        }
+        if (length <= 0) return {path, false, length < 0 ? errno : ENOENT};  // Linux has no empty links
         if (static_cast<size_t>(length) >= target.size()) continue;  // changed meanwhile: read it again
         target.resize(static_cast<size_t>(length));
         const size_t slash = current.rfind('/');
@@ -157,33 +138,30 @@ void write_in_place(const Pending& file, const char* what) {
 // is replaced, so a run that reports failure leaves every output as it was (a rename, the last
 // step, rarely fails; then the temporaries left are removed). Special files are written last.
 void write_together(const std::vector<Pending>& files, const char* what) {
-    std::vector<bool> special;
-    for (const Pending& file : files) special.push_back(written_in_place(file.path));
     // A link is written through: its target is replaced, and the link left as it is.
-    std::vector<std::string> targets;
-    for (size_t i = 0; i < files.size(); ++i) {
-        int error = 0;
-        targets.push_back(special[i] ? files[i].path : replaced_path(files[i].path, error));
-        if (error != 0) throw cannot_write(files[i].path, what, error);
+    std::vector<WriteTarget> targets;
+    for (const Pending& file : files) {
+        targets.push_back(write_target(file.path));
+        if (targets.back().error != 0) throw cannot_write(file.path, what, targets.back().error);
     }
     std::vector<std::string> temporaries(files.size());
     try {
         for (size_t i = 0; i < files.size(); ++i)
-            if (!special[i]) temporaries[i] = write_temporary(files[i], targets[i], what);
+            if (!targets[i].in_place) temporaries[i] = write_temporary(files[i], targets[i].file, what);
     } catch (...) {
         for (const std::string& temporary : temporaries)
             if (!temporary.empty()) ::unlink(temporary.c_str());
         throw;
     }
     for (size_t i = 0; i < files.size(); ++i) {
-        if (special[i] || ::rename(temporaries[i].c_str(), targets[i].c_str()) == 0) continue;
+        if (targets[i].in_place || ::rename(temporaries[i].c_str(), targets[i].file.c_str()) == 0) continue;
         const int error = errno;
         for (size_t j = i; j < files.size(); ++j)
             if (!temporaries[j].empty()) ::unlink(temporaries[j].c_str());
         throw cannot_write(files[i].path, what, error);
     }
     for (size_t i = 0; i < files.size(); ++i)
-        if (special[i]) write_in_place(files[i], what);
+        if (targets[i].in_place) write_in_place(files[i], what);
 }
 
 // Writes the bytes whole.
@@ -197,18 +175,15 @@ std::string_view view_of(const std::vector<uint8_t>& bytes) {
 
 }  // namespace
 
-std::string replaced_path(const std::string& path, int& error) {
-    bool through_proc = false;
-    return follow_links(path, error, through_proc);
+std::string folder_of(const std::string& path) {
+    const size_t slash = path.rfind('/');
+    return slash == std::string::npos ? std::string(".") : (slash == 0 ? std::string("/") : path.substr(0, slash));
 }
 
-bool written_in_place(const std::string& path) {
+WriteTarget write_target(const std::string& path) {
     struct stat info;
-    if (::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode)) return true;
-    int error = 0;
-    bool through_proc = false;
-    follow_links(path, error, through_proc);
-    return through_proc;
+    if (::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode) && !S_ISDIR(info.st_mode)) return {path, true, 0};
+    return follow_links(path);
 }
 
 void write_files_atomically(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& files,

@@ -13,19 +13,26 @@
 
 namespace raycast {
 
-/// The file that writing `path` replaces: `path` itself, or where the symbolic link it names
-/// leads (followed link by link, a relative target read from the link's folder), so that a
-/// written link keeps pointing at the new file, as a shell's `>` leaves it. `error` is 0, or the
-/// errno that stopped it, and the path is then `path`: ELOOP for a loop of links, EACCES for
-/// another user's link in a sticky folder anyone may write to (/tmp), which is not followed, as
-/// the kernel's fs.protected_symlinks follows none.
-std::string replaced_path(const std::string& path, int& error);
+/// The folder a path names its last component in: "." for a bare name, "/" at the root.
+std::string folder_of(const std::string& path);
 
-/// Whether writing `path` writes into the file as it is, with no temporary and no rename: a pipe,
-/// a terminal or a device (/dev/null), or a file named through /proc's links to open files
-/// (/dev/stdout, /dev/fd/3), which only the kernel can follow. A rename would put a plain file in
-/// their place.
-bool written_in_place(const std::string& path);
+/// Where writing a path goes, found by one walk along its links.
+struct WriteTarget {
+    /// The file a rename replaces: the path itself, or where the symbolic link it names leads
+    /// (followed link by link, a relative target read from the link's folder), so that a written
+    /// link keeps pointing at the new file, as a shell's `>` leaves it. The path itself when
+    /// in_place or on an error.
+    std::string file;
+    /// Written into as it is, with no temporary and no rename: a pipe, a terminal or a device
+    /// (/dev/null), or a file named through /proc's links to open files (/dev/stdout, /dev/fd/3),
+    /// which only the kernel can follow. A rename would put a plain file in their place.
+    bool in_place = false;
+    /// 0, or the errno that stopped the walk: ELOOP for a loop of links, EACCES for another
+    /// user's link in a sticky folder anyone may write to (/tmp), which is not followed, as the
+    /// kernel's fs.protected_symlinks follows none.
+    int error = 0;
+};
+WriteTarget write_target(const std::string& path);
 
 /// Writes each (path, bytes) atomically, all of them together: a failure before the renames (a
 /// full disk, a quota) replaces none. Throws InputError(path, "cannot write <what>: <reason>"),

@@ -72,11 +72,10 @@ TEST(WriteFileTest, LinksAreWrittenThrough) {
     ASSERT_EQ(::symlink("images/latest.ppm", relative.c_str()), 0);
     ASSERT_EQ(::symlink(target.c_str(), absolute.c_str()), 0);
     ASSERT_EQ(::symlink("relative.ppm", chain.c_str()), 0);
-    int error = -1;
-    EXPECT_EQ(replaced_path(chain, error), dir + "/images/latest.ppm");
-    EXPECT_EQ(error, 0);
-    EXPECT_EQ(replaced_path(target, error), target);
-    EXPECT_EQ(error, 0);
+    EXPECT_EQ(write_target(chain).file, dir + "/images/latest.ppm");
+    EXPECT_EQ(write_target(chain).error, 0);
+    EXPECT_EQ(write_target(target).file, target);
+    EXPECT_EQ(write_target(target).error, 0);
 
     write_file_atomically(relative, std::string_view("through a relative link"), "image");
     EXPECT_EQ(contents(target), "through a relative link");
@@ -100,9 +99,8 @@ TEST(WriteFileTest, ALoopOfLinksIsRefused) {
     const std::string a = dir + "/a.ppm", b = dir + "/b.ppm";
     ASSERT_EQ(::symlink("b.ppm", a.c_str()), 0);
     ASSERT_EQ(::symlink("a.ppm", b.c_str()), 0);
-    int error = 0;
-    EXPECT_EQ(replaced_path(a, error), a);
-    EXPECT_EQ(error, ELOOP);
+    EXPECT_EQ(write_target(a).file, a);
+    EXPECT_EQ(write_target(a).error, ELOOP);
     try {
         write_file_atomically(a, std::string_view("x"), "image");
         ADD_FAILURE() << "a loop of links was written";
@@ -125,15 +123,14 @@ TEST(WriteFileTest, AnotherUsersLinkInAStickyFolderIsNotFollowed) {
     write_file_atomically(victim, std::string_view("precious"), "file");
     ASSERT_EQ(::symlink("notes.txt", link.c_str()), 0);
     ASSERT_EQ(::lchown(link.c_str(), 65534, 65534), 0);
-    int error = 0;
-    EXPECT_EQ(replaced_path(link, error), link);
-    EXPECT_EQ(error, EACCES);
+    EXPECT_EQ(write_target(link).file, link);
+    EXPECT_EQ(write_target(link).error, EACCES);
     EXPECT_THROW(write_file_atomically(link, std::string_view("image"), "image"), InputError);
     EXPECT_EQ(contents(victim), "precious");
     // Its owner's own link, or one in a folder that is not sticky, is followed.
     ASSERT_EQ(::lchown(link.c_str(), 0, 0), 0);
-    EXPECT_EQ(replaced_path(link, error), victim);
-    EXPECT_EQ(error, 0);
+    EXPECT_EQ(write_target(link).file, victim);
+    EXPECT_EQ(write_target(link).error, 0);
     std::remove(link.c_str());
     std::remove(victim.c_str());
     std::remove(dir.c_str());
@@ -154,16 +151,16 @@ TEST(WriteFileTest, AFillThatThrowsLeavesNothingBehind) {
 // ("pipe:[7]", "/tmp/x (deleted)"): such outputs are written into, as the shell's > writes them,
 // never renamed onto (a stray file named "x (deleted)" had been made).
 TEST(WriteFileTest, OpenFilesNamedThroughProcAreWrittenInto) {
-    EXPECT_TRUE(written_in_place("/dev/stdout"));
-    EXPECT_TRUE(written_in_place("/dev/null"));
+    EXPECT_TRUE(write_target("/dev/stdout").in_place);
+    EXPECT_TRUE(write_target("/dev/null").in_place);
     const std::string dir = fresh_dir();
     const std::string gone = dir + "/gone.obj";
     const int fd = ::open(gone.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     ASSERT_GE(fd, 0);
     ASSERT_EQ(::unlink(gone.c_str()), 0);
     const std::string through = "/dev/fd/" + std::to_string(fd);
-    EXPECT_FALSE(written_in_place(dir + "/plain.obj"));
-    EXPECT_TRUE(written_in_place(through));
+    EXPECT_FALSE(write_target(dir + "/plain.obj").in_place);
+    EXPECT_TRUE(write_target(through).in_place);
     write_file_atomically(through, std::string_view("v 0 0 0\n"), "OBJ file");
     struct stat info;
     ASSERT_EQ(::fstat(fd, &info), 0);

@@ -44,11 +44,6 @@ void print_diagnostics(const std::vector<Diagnostic>& diagnostics) {
     for (const Diagnostic& d : diagnostics) std::fputs(format_diagnostic(d).c_str(), stderr);
 }
 
-std::string folder_of(const std::string& path) {
-    const size_t slash = path.find_last_of('/');
-    return slash == std::string::npos ? std::string(".") : (slash == 0 ? std::string("/") : path.substr(0, slash));
-}
-
 bool same_file(const std::string& a, const std::string& b) {
     struct stat sa, sb;
     return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
@@ -73,20 +68,21 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
     struct stat existing;
     const bool found = ::stat(path.c_str(), &existing) == 0;
     if (found && S_ISDIR(existing.st_mode)) throw InputError(path, "cannot write image: it is a directory");
-    // A pipe, a device or /dev/stdout is written into (written_in_place): no rename, no folder to check.
-    if (written_in_place(path)) {
+    const WriteTarget destination = write_target(path);
+    // A pipe, a device or /dev/stdout is written into: no rename, no folder to check.
+    if (destination.in_place) {
         if (::access(path.c_str(), W_OK) != 0)
             throw InputError(path, std::string("cannot write image: ") + std::strerror(errno));
         return;
     }
-    // A link is written through (replaced_path): the rename replaces what it leads to, in that
-    // file's folder, whose entry's owner is the one a sticky folder asks about.
-    int link_error = 0;
-    const std::string target = replaced_path(path, link_error);
-    if (link_error == EACCES)
+    // A link is written through: the rename replaces what it leads to, in that file's folder,
+    // whose entry's owner is the one a sticky folder asks about.
+    if (destination.error == EACCES)
         throw InputError(path, "cannot write image: it is another user's link in a sticky folder (as /tmp is), which "
                                "is not followed, as the system follows none: choose another name");
-    if (link_error != 0) throw InputError(path, std::string("cannot write image: ") + std::strerror(link_error));
+    if (destination.error != 0)
+        throw InputError(path, std::string("cannot write image: ") + std::strerror(destination.error));
+    const std::string& target = destination.file;
     struct stat entry;
     const bool exists = ::lstat(target.c_str(), &entry) == 0;
     const std::string folder = folder_of(target);
@@ -109,12 +105,11 @@ void check_output_path(const std::string& path, const std::vector<std::string>& 
 }
 
 // The same file named twice, even differently spelt ("out.bmp" and "./out.bmp") or through a link
-// (written through, replaced_path): the same string, the same existing file, or the same name in
+// (written through, write_target): the same string, the same existing file, or the same name in
 // the same folder.
 bool same_output(const std::string& given_a, const std::string& given_b) {
     if (given_a == given_b || same_file(given_a, given_b)) return true;
-    int error = 0;
-    const std::string a = replaced_path(given_a, error), b = replaced_path(given_b, error);
+    const std::string a = write_target(given_a).file, b = write_target(given_b).file;
     if (a == b) return true;
     auto name_of = [](const std::string& path) { return path.substr(path.find_last_of('/') + 1); };
     if (name_of(a) != name_of(b)) return false;
