@@ -4,6 +4,7 @@
 #   bash bench/run.sh --quick              # 1k and 100k only
 #   bash bench/run.sh --baseline OLD/raycast   # also time another raycast binary in the same run
 #   bash bench/run.sh --repeat 5           # best of 5 runs per figure (default 3), for a noisy machine
+#                                          # (in rounds: each round runs every kind once, Embree's too)
 # Builds Release in build-bench/, generates the meshes once (cached in build-bench/meshes/), renders
 # each at 1024x1024 on 2 threads with --stats (primary rays with and without packets, --spp 16,
 # --shadows with a directional and a point light, and --mode ao when the build has it), runs
@@ -27,7 +28,7 @@ while [ $# -gt 0 ]; do
         --repeat)
             [[ $# -ge 2 && $2 =~ ^[1-9][0-9]*$ ]] || { echo "bench/run.sh: --repeat needs a count of runs" >&2; exit 2; }
             repeat=$2; shift ;;
-        -h|--help) sed -n '2,13p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) echo "bench/run.sh: unknown argument '$1' (use --quick, --baseline BINARY or --repeat N)" >&2; exit 2 ;;
     esac
     shift
@@ -192,25 +193,43 @@ load_before=$(cut -d' ' -f1-3 /proc/loadavg 2>/dev/null || echo unknown)
 has_ao=0
 "$raycast" --help 2>&1 | grep -- '--mode' | grep -qw ao && has_ao=1
 
-# best_render SCENE OUT KEY -- OPTIONS...: the best of $repeat renders; sets best_line (the --stats
-# line of the fastest), best_render_ms, best_wall_ms, best_load_ms, best_build_ms and peak_rss_kib.
-best_render() {
-    local scene=$1 out=$2 binary=$3
-    shift 4
-    best_line="" best_render_ms="" best_wall_ms="" best_load_ms="" best_build_ms="" peak_rss_kib=""
-    for run in $(seq "$repeat"); do
-        timed "$build" "$binary" "$scene" "$out" --stats --threads "$threads" --size "$size" --quiet "$@"
-        local ms
-        ms=$(field "$run_out" render_ms)
-        if [ -z "$best_render_ms" ] || awk -v a="$ms" -v b="$best_render_ms" 'BEGIN { exit !(a + 0 < b + 0) }'; then
-            best_render_ms=$ms
-            best_line=$run_out
-        fi
-        best_wall_ms=$(min "$best_wall_ms" "$run_wall_ms")
-        best_load_ms=$(min "$best_load_ms" "$(field "$run_out" load_ms)")
-        best_build_ms=$(min "$best_build_ms" "$(field "$run_out" build_ms)")
-        [ -z "$run_rss_kib" ] || peak_rss_kib=$(max "$peak_rss_kib" "$run_rss_kib")
+# render_into KEY SCENE OUT BINARY -- OPTIONS...: one render, kept under KEY if it is KEY's fastest
+# so far (best_of_line, best_of_ms), with the least wall, load and build times and the largest
+# peak memory of KEY's runs. forget KEY... starts those keys afresh; use KEY sets best_line (the
+# --stats line of the fastest), best_render_ms, best_wall_ms, best_load_ms, best_build_ms and
+# peak_rss_kib from KEY's runs.
+declare -A best_of_line best_of_ms best_of_wall best_of_load best_of_build best_of_rss
+forget() {
+    local key
+    for key in "$@"; do
+        best_of_line[$key]="" best_of_ms[$key]="" best_of_wall[$key]="" best_of_load[$key]=""
+        best_of_build[$key]="" best_of_rss[$key]=""
     done
+}
+render_into() {
+    local key=$1 scene=$2 out=$3 binary=$4
+    shift 5
+    timed "$build" "$binary" "$scene" "$out" --stats --threads "$threads" --size "$size" --quiet "$@"
+    local ms
+    ms=$(field "$run_out" render_ms)
+    if [ -z "${best_of_ms[$key]}" ] || awk -v a="$ms" -v b="${best_of_ms[$key]}" 'BEGIN { exit !(a + 0 < b + 0) }'; then
+        best_of_ms[$key]=$ms
+        best_of_line[$key]=$run_out
+    fi
+    best_of_wall[$key]=$(min "${best_of_wall[$key]}" "$run_wall_ms")
+    best_of_load[$key]=$(min "${best_of_load[$key]}" "$(field "$run_out" load_ms)")
+    best_of_build[$key]=$(min "${best_of_build[$key]}" "$(field "$run_out" build_ms)")
+    [ -z "$run_rss_kib" ] || best_of_rss[$key]=$(max "${best_of_rss[$key]}" "$run_rss_kib")
+}
+use() {
+    best_line=${best_of_line[$1]} best_render_ms=${best_of_ms[$1]} best_wall_ms=${best_of_wall[$1]}
+    best_load_ms=${best_of_load[$1]} best_build_ms=${best_of_build[$1]} peak_rss_kib=${best_of_rss[$1]}
+}
+# best_render SCENE OUT BINARY -- OPTIONS...: the best of $repeat renders in a row, as use() gives it.
+best_render() {
+    forget in_a_row
+    for run in $(seq "$repeat"); do render_into in_a_row "$@"; done
+    use in_a_row
 }
 mrays() { fmt %.2f "$(calc "$1 / ($2 * 1000)")"; }  # mrays RAYS MS
 
@@ -236,6 +255,33 @@ load_in_turn() {
     done
 }
 
+# embree_round SCENE HIT_FRACTION: one run of raycast_embree_bench (Embree's rays, then the same
+# kinds through raycast's queries, each traced once), keeping each figure's best in e_best, the
+# least build time in e_build, the largest peak memory in e_rss and the last run's line in e_last;
+# e_ok says whether any run succeeded (exit 3: the hit fractions differ, which the tables show).
+e_keys=(single packet16 ao_single ao_packet16 raycast_single raycast_packet raycast_ao_single raycast_ao_packet
+    raycast_shadow_single raycast_shadow_packet)
+declare -A e_best
+embree_forget() {
+    e_ok=0 e_last="" e_build="" e_rss=""
+    local key
+    for key in "${e_keys[@]}"; do e_best[$key]=""; done
+}
+embree_round() {
+    local status=0 key value
+    timed "$build" "$embree_bench" "$1" --size "$size" --threads "$threads" --repeat 1 \
+        --expect-hit-fraction "$2" --raycast || status=$?
+    [ "$status" = 0 ] || [ "$status" = 3 ] || return 0
+    e_ok=1
+    e_last=$run_out
+    e_build=$(min "$e_build" "$(field "$run_out" build_ms)")
+    for key in "${e_keys[@]}"; do
+        value=$(field "$run_out" "${key}_mrays_per_s")
+        [ -z "$value" ] || e_best[$key]=$(max "${e_best[$key]}" "$value")
+    done
+    [ -z "$run_rss_kib" ] || e_rss=$(max "$e_rss" "$run_rss_kib")
+}
+
 declare -A result
 embree_version="not built"
 for i in "${!names[@]}"; do
@@ -244,8 +290,23 @@ for i in "${!names[@]}"; do
     write_scene "$name" "$build/$name.txt" 1 "$directional_light"
     write_scene "$name" "$build/${name}_lights.txt" 2 "$directional_light" "$point_light"
     scene=$name.txt
-    log "$name: raycast, $repeat runs of each: packets, --no-packets, --spp 16, --shadows$([ "$has_ao" = 1 ] && echo ", --mode ao")"
-    best_render "$scene" "out/$name.bmp" "$raycast" --
+    log "$name: $repeat rounds of one run each: raycast (packets, --no-packets, --spp 16, --shadows$([ "$has_ao" = 1 ] && echo ", --mode ao"))$([ -n "$embree_bench" ] && echo ", then Embree and the same kinds of rays through raycast's queries")"
+    # In rounds, not each kind's runs in a row: this machine's speed drifts by 10% and more over
+    # a minute (other guests on its host), and a figure is compared with another taken in the
+    # same rounds, so that both had the same chances of a quiet moment.
+    forget packets single spp16 shadows ao
+    embree_forget
+    for run in $(seq "$repeat"); do
+        render_into packets "$scene" "out/$name.bmp" "$raycast" --
+        render_into single "$scene" "out/${name}_single.bmp" "$raycast" -- --no-packets
+        render_into spp16 "$scene" "out/${name}_spp16.bmp" "$raycast" -- --spp 16
+        # Shadows: the rays traced as --stats counts them (at most one per hit and light: none
+        # towards a light that adds nothing at the hit).
+        render_into shadows "${name}_lights.txt" "out/${name}_shadows.bmp" "$raycast" -- --shadows
+        [ "$has_ao" = 0 ] || render_into ao "$scene" "out/${name}_ao.bmp" "$raycast" -- --mode ao
+        [ -z "$embree_bench" ] || embree_round "$scene" "$(field "${best_of_line[packets]}" hit_fraction)"
+    done
+    use packets
     line=$best_line
     rays=$(field "$line" rays)
     triangles=$(field "$line" triangles)
@@ -265,19 +326,17 @@ for i in "${!names[@]}"; do
         result[$name,rss]=$(fmt %.1f "$(calc "$peak_rss_kib / 1024")")
         result[$name,bpt]=$(fmt %.1f "$(calc "$peak_rss_kib * 1024 / $triangles")")
     fi
-    best_render "$scene" "out/${name}_single.bmp" "$raycast" -- --no-packets
+    use single
     [ "$(field "$best_line" hit_fraction)" = "$hit_fraction" ] ||
         log "$name: hit fraction $(field "$best_line" hit_fraction) with --no-packets, $hit_fraction with packets"
     cmp -s "$build/out/$name.bmp" "$build/out/${name}_single.bmp" || log "$name: the --no-packets image differs!"
     result[$name,mrays_single]=$(mrays "$rays" "$best_render_ms")
-    best_render "$scene" "out/${name}_spp16.bmp" "$raycast" -- --spp 16
+    use spp16
     result[$name,mrays_spp16]=$(mrays "$(field "$best_line" rays)" "$best_render_ms")
-    # Shadows: the rays traced as --stats counts them (at most one per hit and light: none
-    # towards a light that adds nothing at the hit).
-    best_render "${name}_lights.txt" "out/${name}_shadows.bmp" "$raycast" -- --shadows
+    use shadows
     result[$name,mrays_shadows]=$(mrays "$(field "$best_line" rays)" "$best_render_ms")
     if [ "$has_ao" = 1 ]; then
-        best_render "$scene" "out/${name}_ao.bmp" "$raycast" -- --mode ao
+        use ao
         result[$name,mrays_ao]=$(mrays "$(field "$best_line" rays)" "$best_render_ms")
     fi
     if [ -n "$baseline" ]; then
@@ -300,25 +359,17 @@ for i in "${!names[@]}"; do
         result[$name,turn_b_build]=$(fmt %.2f "$turn_b_build")
     fi
 
-    if [ -n "$embree_bench" ]; then
-        log "$name: Embree, then the same kinds of rays through raycast's queries"
-        status=0
-        timed "$build" "$embree_bench" "$scene" --size "$size" --threads "$threads" --repeat "$repeat" \
-            --expect-hit-fraction "$hit_fraction" --raycast || status=$?
-        if [ "$status" = 0 ] || [ "$status" = 3 ]; then
-            embree_version=$(field "$run_out" embree)
-            result[$name,e_build]=$(fmt %.1f "$(field "$run_out" build_ms)")
-            for key in single packet16 ao_single ao_packet16 raycast_single raycast_packet raycast_ao_single \
-                raycast_ao_packet raycast_shadow_single raycast_shadow_packet; do
-                value=$(field "$run_out" "${key}_mrays_per_s")
-                [ -z "$value" ] || result[$name,e_$key]=$(fmt %.2f "$value")
-            done
-            result[$name,e_hit]=$(field "$run_out" hit_fraction)
-            result[$name,e_match]=$(field "$run_out" hit_match)
-            result[$name,e_packets]=$(field "$run_out" raycast_packets)
-            # Embree's phase comes first and needs about twice raycast's memory: the peak is Embree's.
-            [ -z "$run_rss_kib" ] || result[$name,e_bpt]=$(fmt %.0f "$(calc "$run_rss_kib * 1024 / $triangles")")
-        fi
+    if [ "$e_ok" = 1 ]; then
+        embree_version=$(field "$e_last" embree)
+        result[$name,e_build]=$(fmt %.1f "$e_build")
+        for key in "${e_keys[@]}"; do
+            [ -z "${e_best[$key]}" ] || result[$name,e_$key]=$(fmt %.2f "${e_best[$key]}")
+        done
+        result[$name,e_hit]=$(field "$e_last" hit_fraction)
+        result[$name,e_match]=$(field "$e_last" hit_match)
+        result[$name,e_packets]=$(field "$e_last" raycast_packets)
+        # Embree's phase comes first and needs about twice raycast's memory: the peak is Embree's.
+        [ -z "$e_rss" ] || result[$name,e_bpt]=$(fmt %.0f "$(calc "$e_rss * 1024 / $triangles")")
     fi
     if [ -n "$tinyobj_bench" ]; then
         log "$name: tinyobjloader"
@@ -406,7 +457,7 @@ ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "n/a" || b == "n/a" || a == 
     echo "- $version; Embree $embree_version"
     [ -z "$baseline" ] || echo "- Baseline (same run): $baseline ($("$baseline" --version))"
     echo "- Load average (1, 5, 15 min) before: $load_before; after: $load_after"
-    echo "- Every render: $size, $threads threads; times are the best of $repeat runs (course scenes: of $course_repeat, taken in turn with the baseline's; the load and build targets: of $turns at 64x64, ten times as many for meshes that load in under 10 ms, in turn with the baseline's)"
+    echo "- Every render: $size, $threads threads; times are the best of $repeat runs, taken in rounds of one run of each kind and one of Embree's comparison (course scenes: of $course_repeat, taken in turn with the baseline's; the load and build targets: of $turns at 64x64, ten times as many for meshes that load in under 10 ms, in turn with the baseline's)"
     echo
     echo "### raycast on bumpy spheres"
     echo
