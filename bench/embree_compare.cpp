@@ -14,7 +14,8 @@
 //     figure counts primary and AO rays over the time of both passes.
 // Nothing is shaded. Each figure is the best of --repeat runs. With --raycast, Embree's scene is
 // released, the scene is loaded again and built by build_scene, and the same passes run through
-// raycast's intersect/occluded (one ray at a time) and PacketTracer (packets), plus shadow rays
+// raycast's intersect/occluded (one ray at a time) and PacketTracer (packets: camera rays in 8x8
+// blocks of four 4x4 packets, which walk the BVH together as the renderer's do), plus shadow rays
 // towards the scene's first light (one ray at a time, and each primary packet's together).
 // Prints key=value pairs (one line); exits 3 when the hit fraction of rtcIntersect1 differs from
 // --expect-hit-fraction (raycast's, at the 4 digits raycast prints). Embree's two paths need not
@@ -229,28 +230,31 @@ Ray pixel_ray(const Camera& camera, int x, int y) {
 }
 
 // Packets of neighbouring pixels, as raycast's renderer forms them: 4x4 for 16 lanes, 2x4 for 8,
-// 2x2 for 4. Calls block(pixel_x, pixel_y, count) for every block of the tile.
+// 2x2 for 4, in blocks of `packets` such packets (1, or 4 side by side in 2x2: an 8x8 block of
+// 4x4 packets). Calls block(pixel_x, pixel_y, count) for every block of the tile, the pixels
+// packet by packet, row by row within a packet.
 template <typename BlockFn>
-void for_each_block(int x0, int y0, int x1, int y1, int lanes, BlockFn&& block) {
-    const int block_w = lanes >= 16 ? 4 : (lanes >= 4 ? 2 : 1);
-    const int block_h = lanes / block_w;
-    const int blocks_x = (x1 - x0 + block_w - 1) / block_w, blocks_y = (y1 - y0 + block_h - 1) / block_h;
-    int xs[16], ys[16];
-    for (int b = 0; b < blocks_x * blocks_y; ++b) {
-        const int bx = x0 + (b % blocks_x) * block_w, by = y0 + (b / blocks_x) * block_h;
-        int count = 0;
-        for (int k = 0; k < block_w * block_h; ++k) {  // row by row within the block
-            const int x = bx + k % block_w, y = by + k / block_w;
-            if (x >= x1 || y >= y1) continue;
-            xs[count] = x;
-            ys[count] = y;
-            ++count;
+void for_each_block(int x0, int y0, int x1, int y1, int lanes, int packets, BlockFn&& block) {
+    const int packet_w = lanes >= 16 ? 4 : (lanes >= 4 ? 2 : 1);
+    const int packet_h = lanes / packet_w;
+    const int across = packets >= 4 ? 2 : 1, down = packets >= 4 ? 2 : 1;
+    const int block_w = packet_w * across, block_h = packet_h * down;
+    int xs[64], ys[64];
+    for (int by = y0; by < y1; by += block_h)
+        for (int bx = x0; bx < x1; bx += block_w) {
+            int count = 0;
+            for (int py = by; py < std::min(by + block_h, y1); py += packet_h)
+                for (int px = bx; px < std::min(bx + block_w, x1); px += packet_w)
+                    for (int y = py; y < std::min(py + packet_h, y1); ++y)
+                        for (int x = px; x < std::min(px + packet_w, x1); ++x) {
+                            xs[count] = x;
+                            ys[count] = y;
+                            ++count;
+                        }
+            block(xs, ys, count);
         }
-        block(xs, ys, count);
-    }
 }
 
-// ---------------------------------------------------------------------------------------------
 // Ambient-occlusion rays: the same distribution for both tracers
 
 // Ray i of pixel `pixel`'s hit at `position` with unit normal `normal` (facing the viewer), as
@@ -360,7 +364,7 @@ struct EmbreePasses {
             alignas(64) RTCRay16 shadow;
             alignas(64) int valid[16];
             Ray rays[16];
-            for_each_block(x0, y0, x1, y1, 16, [&](const int* xs, const int* ys, int count) {
+            for_each_block(x0, y0, x1, y1, 16, 1, [&](const int* xs, const int* ys, int count) {
                 for (int lane = 0; lane < 16; ++lane) {
                     valid[lane] = lane < count ? -1 : 0;
                     rays[lane] = pixel_ray(camera, xs[lane < count ? lane : 0], ys[lane < count ? lane : 0]);
@@ -443,45 +447,50 @@ struct RaycastPasses {
     TraceResult packets(Extra extra) const {
         const int lanes = tracer.lanes();
         return timed_pass(camera, threads, [&](int x0, int y0, int x1, int y1, Counter& counter) {
-            Ray rays[kMaxPacketLanes], extra_rays[kMaxPacketLanes];
-            Hit hits[kMaxPacketLanes];
+            constexpr int kBlockRays = kMaxSharedPackets * kMaxPacketLanes;
+            Ray rays[kBlockRays], extra_rays[kMaxPacketLanes];
+            Hit hits[kBlockRays];
             float t_max[kMaxPacketLanes];
             bool blocked[kMaxPacketLanes];
-            for_each_block(x0, y0, x1, y1, lanes, [&](const int* xs, const int* ys, int count) {
+            // Blocks of kMaxSharedPackets packets, traced together as the renderer traces them.
+            for_each_block(x0, y0, x1, y1, lanes, kMaxSharedPackets, [&](const int* xs, const int* ys, int count) {
                 for (int k = 0; k < count; ++k) {
                     rays[k] = pixel_ray(camera, xs[k], ys[k]);
                     hits[k] = Hit{};
                 }
-                tracer.intersect(rays, count, camera.t_min, hits);
+                tracer.intersect_packets(rays, count, camera.t_min, hits);
                 counter.rays += static_cast<uint64_t>(count);
-                int shadows = 0;
-                for (int k = 0; k < count; ++k) {
-                    if (!hits[k].is_hit()) continue;
-                    ++counter.hits;
-                    if (extra == Extra::None) continue;
-                    const SurfacePoint surface = surface_at(scene, rays[k], hits[k]);
-                    const Vec3f normal = facing(surface.normal, rays[k]);
-                    const float travel = ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t);
-                    if (extra == Extra::Shadow) {
-                        const Illumination light = illuminate(scene.lights[0], surface.position);
-                        extra_rays[shadows] = {offset_ray_origin(surface.position, normal, light.to_light, travel), light.to_light};
-                        t_max[shadows++] = light.distance;
-                        continue;
-                    }
-                    const uint32_t pixel = static_cast<uint32_t>(ys[k] * camera.width + xs[k]);
-                    for (int first = 0; first < ao_rays; first += lanes) {
-                        const int n = std::min(lanes, ao_rays - first);
-                        for (int i = 0; i < n; ++i) {
-                            extra_rays[i] = ao_ray(surface.position, normal, travel, pixel, first + i);
-                            t_max[i] = ao_length;
+                for (int first = 0; first < count; first += lanes) {  // then each packet's extra rays
+                    int shadows = 0;
+                    for (int k = first; k < std::min(count, first + lanes); ++k) {
+                        if (!hits[k].is_hit()) continue;
+                        ++counter.hits;
+                        if (extra == Extra::None) continue;
+                        const SurfacePoint surface = surface_at(scene, rays[k], hits[k]);
+                        const Vec3f normal = facing(surface.normal, rays[k]);
+                        const float travel = ray_travel_scale(rays[k].origin, rays[k].direction, hits[k].t);
+                        if (extra == Extra::Shadow) {
+                            const Illumination light = illuminate(scene.lights[0], surface.position);
+                            extra_rays[shadows] = {offset_ray_origin(surface.position, normal, light.to_light, travel),
+                                                   light.to_light};
+                            t_max[shadows++] = light.distance;
+                            continue;
                         }
-                        tracer.occluded(extra_rays, n, 0, t_max, blocked);
+                        const uint32_t pixel = static_cast<uint32_t>(ys[k] * camera.width + xs[k]);
+                        for (int i0 = 0; i0 < ao_rays; i0 += lanes) {
+                            const int n = std::min(lanes, ao_rays - i0);
+                            for (int i = 0; i < n; ++i) {
+                                extra_rays[i] = ao_ray(surface.position, normal, travel, pixel, i0 + i);
+                                t_max[i] = ao_length;
+                            }
+                            tracer.occluded(extra_rays, n, 0, t_max, blocked);
+                        }
+                        counter.rays += static_cast<uint64_t>(ao_rays);
                     }
-                    counter.rays += static_cast<uint64_t>(ao_rays);
-                }
-                if (shadows > 0) {
-                    tracer.occluded(extra_rays, shadows, 0, t_max, blocked);
-                    counter.rays += static_cast<uint64_t>(shadows);
+                    if (shadows > 0) {
+                        tracer.occluded(extra_rays, shadows, 0, t_max, blocked);
+                        counter.rays += static_cast<uint64_t>(shadows);
+                    }
                 }
             });
         });

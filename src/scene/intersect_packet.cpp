@@ -13,22 +13,22 @@ PacketKernel kernel_for(PacketIsa isa) {
         case PacketIsa::None:
             return {};
         case PacketIsa::Portable:
-            return {&packet_portable::intersect, &packet_portable::occluded};
+            return {&packet_portable::intersect, &packet_portable::occluded, &packet_portable::intersect_packets};
         case PacketIsa::Sse2:
 #ifdef RAYCAST_HAVE_SSE2_KERNEL
-            return {&packet_sse2::intersect, &packet_sse2::occluded};
+            return {&packet_sse2::intersect, &packet_sse2::occluded, &packet_sse2::intersect_packets};
 #else
             return {};
 #endif
         case PacketIsa::Avx2:
 #ifdef RAYCAST_HAVE_AVX2_KERNEL
-            return {&packet_avx2::intersect, &packet_avx2::occluded};
+            return {&packet_avx2::intersect, &packet_avx2::occluded, &packet_avx2::intersect_packets};
 #else
             return {};
 #endif
         case PacketIsa::Avx512:
 #ifdef RAYCAST_HAVE_AVX512_KERNEL
-            return {&packet_avx512::intersect, &packet_avx512::occluded};
+            return {&packet_avx512::intersect, &packet_avx512::occluded, &packet_avx512::intersect_packets};
 #else
             return {};
 #endif
@@ -158,6 +158,16 @@ void PacketTracer::intersect(const Ray* rays, int count, float t_min, Hit* hits)
         return;
     }
     kernel_.intersect(view_, rays, count, t_min, hits);
+}
+
+void PacketTracer::intersect_packets(const Ray* rays, int count, float t_min, Hit* hits) const {
+    RAYCAST_DCHECK(count >= 0 && count <= kMaxSharedPackets * lanes());
+    for (int k = 0; k < count; ++k) RAYCAST_DCHECK(!hits[k].is_hit());
+    if (!kernel_.intersect_packets) {
+        for (int k = 0; k < count; ++k) raycast::intersect(scene_, rays[k], t_min, hits[k]);
+        return;
+    }
+    if (count > 0) kernel_.intersect_packets(view_, rays, count, t_min, hits);
 }
 
 void PacketTracer::occluded(const Ray* rays, int count, float t_min, const float* t_max, bool* blocked,

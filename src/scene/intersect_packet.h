@@ -78,6 +78,10 @@ public:
 
     /// Closest hits of rays[0..count) with t > t_min; count <= lanes(); hits must start empty.
     void intersect(const Ray* rays, int count, float t_min, Hit* hits) const;
+    /// intersect() for each run of lanes() rays of rays[0..count), count <= kMaxSharedPackets *
+    /// lanes(): for a block of a pinhole camera's rays, four packets of 4x4 pixels, which walk the
+    /// BVH together where the scene allows (see packet_kernel.inl), with the same hits.
+    void intersect_packets(const Ray* rays, int count, float t_min, Hit* hits) const;
 
     /// blocked[k] = occluded(scene, rays[k], t_min, t_max[k]) for k < count <= lanes(): whether
     /// anything lies on ray k with t_min < t < t_max[k]. The rays need not share an origin or a

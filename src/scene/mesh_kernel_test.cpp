@@ -523,5 +523,87 @@ TEST(PacketIntersect, CameraPacketsNarrowOrWideAgainstTheLeavesGetTheirSingleRay
     EXPECT_GT(hit_count, total / 2);
 }
 
+// A block of a pinhole camera's rays, up to kMaxSharedPackets packets of 4x4 pixels, as the
+// renderer makes them: the packets walk each untransformed mesh together, and everything else
+// (planes, spheres, transformed meshes, the instance BVH) each on its own. Blocks narrow and wide
+// against the leaves, whole and cut short (the edge of an image), at one mesh alone, at a mesh
+// with a plane, a sphere and a transformed copy beside it, at 24 meshes (more than the kernel
+// notes at once) and at 64 transformed copies, and blocks that cannot share (one ray from another
+// origin, or going the other way): each ray gets exactly its single-ray hit.
+TEST(PacketIntersect, BlocksOfCameraPacketsGetTheirSingleRayHitsWhetherTheyShareOneWalkOrNot) {
+    std::mt19937 rng(59);
+    std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
+    auto mesh_alone = [&] {
+        SceneDesc desc = scene_desc();
+        desc.root->children.push_back(mesh_object(add_mesh(desc, grid_mesh(rng, 48, 0.3f))));
+        return build(std::move(desc));
+    };
+    auto mesh_and_others = [&] {
+        SceneDesc desc = scene_desc();
+        const int id = add_mesh(desc, grid_mesh(rng, 32, 0.6f));
+        desc.root->children.push_back(mesh_object(id));
+        desc.root->children.push_back(transform(Mat4::translate({4, 3, 1.5f}) * Mat4::scale({0.5f, 0.5f, 1}), mesh_object(id)));
+        desc.root->children.push_back(sphere({16, 16, 2}, 3));
+        desc.root->children.push_back(plane({0, 0, 1}, -0.5f));
+        return build(std::move(desc));
+    };
+    auto many_meshes = [&] {
+        SceneDesc desc = scene_desc();
+        for (int i = 0; i < 24; ++i) {
+            TriangleMesh mesh = grid_mesh(rng, 6, 0.6f);
+            const Vec3f offset{static_cast<float>(i % 6) * 6.5f, static_cast<float>(i / 6) * 6.5f, u01(rng)};
+            for (Vec3f& position : mesh.positions) position = position + offset;
+            desc.root->children.push_back(mesh_object(add_mesh(desc, std::move(mesh))));
+        }
+        return build(std::move(desc));
+    };
+    auto many_copies = [&] {
+        SceneDesc desc = scene_desc();
+        const int id = add_mesh(desc, grid_mesh(rng, 8, 0.6f));
+        for (int i = 0; i < 64; ++i) {
+            const Vec3f offset{static_cast<float>(i % 8) * 4.0f, static_cast<float>(i / 8) * 4.0f, u01(rng)};
+            desc.root->children.push_back(transform(Mat4::translate(offset) * Mat4::scale({0.5f, 0.5f, 1}), mesh_object(id)));
+        }
+        return build(std::move(desc));
+    };
+    const Scene scenes[4] = {mesh_alone(), mesh_and_others(), many_meshes(), many_copies()};
+    int hit_count = 0, total = 0;
+    for (const Scene& scene : scenes)
+        for (PacketIsa isa : packet_isas()) {
+            const PacketTracer tracer(scene, isa);
+            const int lanes = tracer.lanes();
+            for (int block = 0; block < 200; ++block) {
+                const int full = kMaxSharedPackets * lanes;
+                const int count = block % 4 == 3 ? 1 + block % full : full;
+                const Vec3f origin{4 + 16 * u01(rng), 4 + 16 * u01(rng), 4 + 20 * u01(rng)};
+                const Vec3f centre{0.7f + 0.6f * u01(rng), 0.7f + 0.6f * u01(rng), -1};
+                // A pixel's width from 1e-4 (far narrower than a leaf) to 0.05 (a small image).
+                const float pixel = std::pow(10.0f, -4 + 2.7f * u01(rng));
+                Ray rays[kMaxSharedPackets * kMaxPacketLanes];
+                for (int k = 0; k < count; ++k) {
+                    // Packets of 4 pixels by lanes / 4, side by side in the block, as the renderer makes them.
+                    const int packet = k / lanes, within = k % lanes;
+                    const int x = (packet % 2) * 4 + within % 4, y = (packet / 2) * (lanes / 4) + within / 4;
+                    rays[k] = {origin, centre + Vec3f{static_cast<float>(x), static_cast<float>(y), 0} * pixel};
+                }
+                if (block % 10 == 7) rays[count - 1].origin.x += 1e-3f;  // one ray from elsewhere: no sharing
+                if (block % 10 == 8) rays[count / 2].direction.x = -rays[count / 2].direction.x;  // one goes the other way
+                Hit hits[kMaxSharedPackets * kMaxPacketLanes];
+                tracer.intersect_packets(rays, count, 0, hits);
+                for (int k = 0; k < count; ++k) {
+                    Hit expected;
+                    intersect(scene, rays[k], 0, expected);
+                    ++total;
+                    ASSERT_EQ(hits[k].is_hit(), expected.is_hit()) << packet_isa_name(isa) << ", " << describe(rays[k], 0);
+                    if (!expected.is_hit()) continue;
+                    ++hit_count;
+                    ASSERT_TRUE(same_hit(hits[k], expected)) << packet_isa_name(isa) << ", " << describe(rays[k], 0);
+                }
+            }
+        }
+    EXPECT_GT(hit_count, total / 2);
+    EXPECT_LT(hit_count, total);
+}
+
 }  // namespace
 }  // namespace raycast

@@ -19,6 +19,10 @@ void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_
     trace_packet(view, rays, count, t_min, hits);
 }
 
+void intersect_packets(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) {
+    trace_packets(view, rays, count, t_min, hits);
+}
+
 void occluded(const PacketSceneView& view, const Ray* rays, int count, float t_min, const float* t_max, bool* blocked,
               const BackFaceSkipping& skipping) {
     trace_packet_occluded(view, rays, count, t_min, t_max, blocked, skipping);

@@ -340,6 +340,8 @@ struct PacketFrustum {
     // lanes, divided by the length of one direction (rays a distance d from the origin lie
     // about d times this apart).
     float spread;
+    float direction_lo[3], direction_hi[3];  // each component's range over the live lanes
+    float length;                            // of one lane's direction
 };
 
 // The greatest of the live lanes of v, and the least.
@@ -367,12 +369,15 @@ inline PacketFrustum make_frustum(const PacketRays& r, const SameOctant& octant)
     const unsigned some_lane = lowest_bit(bits(live));
     float widest = 0, length_squared = 0;
     for (int axis = 0; axis < 3; ++axis) {
-        const float range = max_of_lanes(*direction[axis], live) - min_of_lanes(*direction[axis], live);
+        f.direction_lo[axis] = min_of_lanes(*direction[axis], live);
+        f.direction_hi[axis] = max_of_lanes(*direction[axis], live);
+        const float range = f.direction_hi[axis] - f.direction_lo[axis];
         if (range > widest) widest = range;
         const float component = lane_value(*direction[axis], some_lane);
         length_squared += component * component;
     }
-    f.spread = widest / __builtin_sqrtf(length_squared);
+    f.length = __builtin_sqrtf(length_squared);
+    f.spread = widest / f.length;
     for (int axis = 0; axis < 3; ++axis) {
         f.near[axis] = octant.near[axis];
         f.origin[axis] = lane_value(*origin[axis], some_lane);
@@ -698,38 +703,60 @@ inline void intersect_instance_lanes(PacketState& s, uint32_t id, VM lanes) {
     refresh_best(s);
 }
 
-// Closest hits of the rays of r.live, which share w's permutation, with one mesh.
-inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w, const MeshView& mesh,
-                                  uint32_t object) {
+// Closest hits of the rays of r.live, which share w's permutation, with one leaf's triangles.
+inline void intersect_leaf_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w, const MeshView& mesh,
+                                  uint32_t object, uint32_t first_block, ShearedVertices& sheared) {
+    for (uint32_t block = first_block;;) {
+        const unsigned char* group = mesh.groups[block].bytes;
+        shear_vertices(group, w, sheared);
+        for (uint32_t lane = 0; lane < group[0]; ++lane) {
+            const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, s.t_min_v);
+            // The triangle's id is read only for a hit: the last part of the group.
+            if (any(h.hit)) offer(s, h.hit, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block, lane);
+        }
+        if (group[2] & kGroupEndsLeaf) return;
+        block += group_blocks(group[0], group[1]);
+    }
+}
+
+struct PacketFrustum;  // defined where the kernel has a frustum walk (RAYCAST_PACKET_FRUSTUM)
+
+// Closest hits of the rays of r.live, which share w's permutation, with one mesh: walked as
+// `frustum` (the packet's, when its rays share an origin and go one way; else null) unless that
+// is too wide for the mesh's leaves, else lane by lane.
+inline void walk_mesh_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w, const MeshView& mesh,
+                             uint32_t object, const PacketFrustum* frustum) {
     ShearedVertices sheared;
     auto visit_leaf = [&](uint32_t first_block) {
-        for (uint32_t block = first_block;;) {
-            const unsigned char* group = mesh.groups[block].bytes;
-            shear_vertices(group, w, sheared);
-            for (uint32_t lane = 0; lane < group[0]; ++lane) {
-                const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, s.t_min_v);
-                // The triangle's id is read only for a hit: the last part of the group.
-                if (any(h.hit)) offer(s, h.hit, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block,
-                                      lane);
-            }
-            if (group[2] & kGroupEndsLeaf) return false;
-            block += group_blocks(group[0], group[1]);
-        }
+        intersect_leaf_packet(s, r, w, mesh, object, first_block, sheared);
+        return false;
     };
 #ifdef RAYCAST_PACKET_FRUSTUM
-    SameOctant octant;
-    if (s.t_min >= 0 && same_octant(r, octant) && one_origin(r)) {
-        const PacketFrustum frustum = make_frustum(r, octant);
-        if (!frustum_too_wide(frustum, mesh)) {
-            traverse_frustum(mesh, frustum, s.t_min, [&] { return max_of_lanes(cull_distance_v(s.best_t), r.live); },
-                             visit_leaf);
-            return;
-        }
+    if (frustum && !frustum_too_wide(*frustum, mesh)) {
+        traverse_frustum(mesh, *frustum, s.t_min, [&] { return max_of_lanes(cull_distance_v(s.best_t), r.live); },
+                         visit_leaf);
+        return;
     }
+#else
+    (void)frustum;
 #endif
     traverse_packet_wide<true>(
         mesh, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
         [&](uint32_t first_block, VM) { return visit_leaf(first_block); }, no_lanes);
+}
+
+// walk_mesh_packet with the packet's frustum where it has one.
+inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w, const MeshView& mesh,
+                                  uint32_t object) {
+#ifdef RAYCAST_PACKET_FRUSTUM
+    SameOctant octant;
+    if (s.t_min >= 0 && same_octant(r, octant) && one_origin(r)) {
+        const PacketFrustum frustum = make_frustum(r, octant);
+        walk_mesh_packet(s, r, w, mesh, object, &frustum);
+        return;
+    }
+#endif
+    walk_mesh_packet(s, r, w, mesh, object, nullptr);
 }
 
 // Marks the lanes of now_blocked in blocked[] and takes them out of r.live.
@@ -905,6 +932,40 @@ inline void for_each_permutation(PacketRays& r, TraceFn&& trace) {
     }
 }
 
+// The closest hits of the lanes `lanes` of r (the packet of s) with one instance.
+inline void intersect_instance_packet(PacketState& s, const PacketRays& r, uint32_t id, VM lanes) {
+    const PacketSceneView& view = s.view;
+    const Instance& instance = view.instances[id];
+    if (has_simd_test(instance.kind)) {
+        intersect_shape_lanes(s, r, id, lanes);
+        return;
+    }
+    if (instance.kind != ShapeKind::Mesh) {
+        intersect_instance_lanes(s, id, lanes);
+        return;
+    }
+    const MeshView& mesh = view.meshes[instance.shape];
+    if (!mesh.nodes) return;
+    if (instance.transform == kNoTransformIndex && coherent(r)) {
+        // The packet as it is, without the copy below, when one permutation serves all its rays
+        // (nearly always).
+        AxisSet sets[6];
+        if (axis_sets(r, sets) == 1) {
+            intersect_mesh_packet(s, r, make_watertight_packet(r, sets[0]), mesh, id);
+            return;
+        }
+    }
+    PacketRays local =
+        instance.transform == kNoTransformIndex ? r : transform_packet(r, view.object_from_world[instance.transform]);
+    if (!coherent(local)) {
+        intersect_instance_lanes(s, id, lanes);
+        return;
+    }
+    for_each_permutation(local, [&](const PacketRays& subset, const WatertightPacket& w) {
+        intersect_mesh_packet(s, subset, w, mesh, id);
+    });
+}
+
 inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) {
     // Dead lanes copy lane 0, and the live mask is (1 << count) - 1.
     RAYCAST_DCHECK(count >= 1 && count <= kLanes);
@@ -919,39 +980,7 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
     traverse_packet(
         view.instance_nodes, r, s.t_min_v, [&] { return cull_distance_v(s.best_t); },
         [&](uint32_t first, uint32_t n, VM lanes) {
-            for (uint32_t i = first; i < first + n; ++i) {
-                const uint32_t id = view.instance_ids[i];
-                const Instance& instance = view.instances[id];
-                if (has_simd_test(instance.kind)) {
-                    intersect_shape_lanes(s, r, id, lanes);
-                    continue;
-                }
-                if (instance.kind != ShapeKind::Mesh) {
-                    intersect_instance_lanes(s, id, lanes);
-                    continue;
-                }
-                const MeshView& mesh = view.meshes[instance.shape];
-                if (!mesh.nodes) continue;
-                if (instance.transform == kNoTransformIndex && coherent(r)) {
-                    // The packet as it is, without the copy below, when one permutation serves
-                    // all its rays (nearly always).
-                    AxisSet sets[6];
-                    if (axis_sets(r, sets) == 1) {
-                        intersect_mesh_packet(s, r, make_watertight_packet(r, sets[0]), mesh, id);
-                        continue;
-                    }
-                }
-                PacketRays local = instance.transform == kNoTransformIndex
-                                       ? r
-                                       : transform_packet(r, view.object_from_world[instance.transform]);
-                if (!coherent(local)) {
-                    intersect_instance_lanes(s, id, lanes);
-                    continue;
-                }
-                for_each_permutation(local, [&](const PacketRays& subset, const WatertightPacket& w) {
-                    intersect_mesh_packet(s, subset, w, mesh, id);
-                });
-            }
+            for (uint32_t i = first; i < first + n; ++i) intersect_instance_packet(s, r, view.instance_ids[i], lanes);
             return false;
         });
 }
@@ -1005,4 +1034,247 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
         }
         return false;
     });
+}
+
+#ifdef RAYCAST_PACKET_FRUSTUM
+// Several packets of one pinhole camera (the four 4x4 packets of an 8x8 block of pixels) walk a
+// mesh's BVH together, as one frustum over all their rays: a node's children are tested once
+// for the block instead of once per packet, and at a leaf each packet whose own frustum enters
+// the leaf's box tests its triangles, as it would have on its own walk (the four packets'
+// tests in one register). The triangles are not shared, so the gain is what the walk was: the
+// trace alone 1.09x faster at 100k triangles and 1.065x at 1M, level at 1k (a walk of three
+// nodes) and at 5M, where a block's frustum is too wide for the leaves and each packet walks
+// alone (docs/performance.md). The hits are the same: the block's frustum holds every packet's,
+// and each packet's holds its rays (make_frustum), so no ray misses a box it enters, and a
+// ray's closest hit does not depend on the order the triangles came in (offer).
+
+// One packet of a block: its rays, its triangle test's constants, its frustum, and its hits.
+struct SharedPacket {
+    PacketRays r;
+    WatertightPacket w;
+    PacketFrustum f;
+    PacketState* s;
+};
+
+inline float packet_cull(const SharedPacket& packet) {
+    return max_of_lanes(cull_distance_v(packet.s->best_t), packet.r.live);
+}
+
+// The frustum of the packets `members` together: their ranges of inverses, from their one origin
+// (the caller has checked that they share it and their near bounds), and their spread as
+// make_frustum finds a packet's, over all their lanes.
+inline PacketFrustum shared_frustum(const SharedPacket* packets, const int* members, int member_count) {
+    PacketFrustum block = packets[members[0]].f;
+    float widest = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int m = 1; m < member_count; ++m) {
+            const PacketFrustum& f = packets[members[m]].f;
+            block.near_lo[axis] = f.near_lo[axis] < block.near_lo[axis] ? f.near_lo[axis] : block.near_lo[axis];
+            block.near_hi[axis] = f.near_hi[axis] > block.near_hi[axis] ? f.near_hi[axis] : block.near_hi[axis];
+            block.far_lo[axis] = f.far_lo[axis] < block.far_lo[axis] ? f.far_lo[axis] : block.far_lo[axis];
+            block.far_hi[axis] = f.far_hi[axis] > block.far_hi[axis] ? f.far_hi[axis] : block.far_hi[axis];
+            block.direction_lo[axis] =
+                f.direction_lo[axis] < block.direction_lo[axis] ? f.direction_lo[axis] : block.direction_lo[axis];
+            block.direction_hi[axis] =
+                f.direction_hi[axis] > block.direction_hi[axis] ? f.direction_hi[axis] : block.direction_hi[axis];
+        }
+        const float range = block.direction_hi[axis] - block.direction_lo[axis];
+        widest = range > widest ? range : widest;
+    }
+    block.spread = widest / block.length;
+    return block;
+}
+
+// traverse_frustum with the frustum of the packets `members` (shared_frustum), each leaf tested
+// by those of them whose own frustum enters its box before their own cull distance.
+inline void traverse_frustum_shared(const MeshView& mesh, const PacketFrustum& block, const SharedPacket* packets,
+                                    const int* members, int member_count, float t_min, uint32_t object) {
+    const WideBvhNode* nodes = mesh.nodes;
+    struct Pending {
+        uint32_t ref;
+        float t_entry;
+        uint32_t parent, slot;  // where the child's box is: a leaf's is tested again for each packet
+    };
+    Pending stack[kWideStackSize];
+    int stack_size = 0;
+    Pending current{0, 0.0f, 0, 0};  // the root node
+    // The members' frusta a lane each (frustum_children's terms), for their tests at the leaves.
+    alignas(32) float culls[8] = {};
+    alignas(32) float near_lo[3][8] = {}, near_hi[3][8] = {}, far_lo[3][8] = {}, far_hi[3][8] = {};
+    for (int m = 0; m < member_count; ++m) {
+        const PacketFrustum& f = packets[members[m]].f;
+        for (int axis = 0; axis < 3; ++axis) {
+            near_lo[axis][m] = f.near_lo[axis];
+            near_hi[axis][m] = f.near_hi[axis];
+            far_lo[axis][m] = f.far_lo[axis];
+            far_hi[axis][m] = f.far_hi[axis];
+        }
+        culls[m] = packet_cull(packets[members[m]]);
+    }
+    static_assert(kMaxSharedPackets <= 8, "a member a lane of wide8");
+    const unsigned member_lanes = (1u << member_count) - 1;
+    auto max_cull = [&] {
+        float cull = culls[0];
+        for (int m = 1; m < member_count; ++m) cull = culls[m] > cull ? culls[m] : cull;
+        return cull;
+    };
+    float cull = max_cull();
+    ShearedVertices sheared;
+    for (;;) {
+        if ((current.ref & kWideLeafFlag) == 0) {
+            const WideBvhNode& node = nodes[current.ref];
+            wide8::VF t_entry;
+            unsigned hits = frustum_children(node, block, t_min, cull, t_entry);
+            if (hits != 0) {
+                float t[kWideBvhWidth];
+                wide8::store(t, t_entry);
+                Pending entered[kWideBvhWidth];
+                int count = 0;
+                for (; hits; hits &= hits - 1) {
+                    const unsigned slot = lowest_bit(hits);
+                    const Pending child{node.child[slot], t[slot], current.ref, slot};
+                    prefetch_child(mesh, child.ref);
+                    int i = count++;
+                    for (; i > 0 && entered[i - 1].t_entry < child.t_entry; --i) entered[i] = entered[i - 1];
+                    entered[i] = child;
+                }
+                RAYCAST_DCHECK(stack_size + count - 1 <= kWideStackSize);
+                for (int i = 0; i + 1 < count; ++i) stack[stack_size++] = entered[i];
+                current = entered[count - 1];
+                continue;
+            }
+        } else {
+            // Every member's frustum against the leaf's box at once, a member a lane, as
+            // frustum_children tests a node's children (the members share the block's origin
+            // and near bounds).
+            using wide8::load;
+            using wide8::vmax;
+            using wide8::vmin;
+            const WideBvhNode& parent = nodes[current.parent];
+            wide8::VF entry = wide8::splat(t_min), exit = load(culls);
+            for (int axis = 0; axis < 3; ++axis) {
+                const float* bounds = parent.bounds[axis][block.near[axis]];
+                const float* far_bounds = parent.bounds[axis][1 - block.near[axis]];
+                const wide8::VF to_near = wide8::splat(bounds[current.slot] - block.origin[axis]);
+                const wide8::VF to_far = wide8::splat(far_bounds[current.slot] - block.origin[axis]);
+                entry = vmax(entry, vmin(to_near * load(near_lo[axis]), to_near * load(near_hi[axis])));
+                exit = vmin(exit, vmax(to_far * load(far_lo[axis]), to_far * load(far_hi[axis])));
+            }
+            for (unsigned b = wide8::bits(entry <= exit) & member_lanes; b; b &= b - 1) {
+                const int m = static_cast<int>(lowest_bit(b));
+                const SharedPacket& packet = packets[members[m]];
+                intersect_leaf_packet(*packet.s, packet.r, packet.w, mesh, object, current.ref & kWidePayloadMask,
+                                      sheared);
+                culls[m] = packet_cull(packet);
+            }
+            cull = max_cull();
+        }
+        for (;;) {
+            if (stack_size == 0) return;
+            const Pending next = stack[--stack_size];
+            if (next.t_entry <= cull) {
+                current = next;
+                break;
+            }
+        }
+    }
+}
+
+// trace_packet for each packet of rays[0, count) (kLanes to a packet), the packets walking each
+// untransformed mesh together, when they can: rays of one origin that go one way along every
+// axis (a pinhole camera's) and t_min >= 0. Each packet first walks the instance BVH alone, as
+// in trace_packet, testing every other object at once and noting the meshes it reaches; then each
+// mesh is walked by the packets that reached it, together. (A packet's walk of the instance BVH
+// then culls with hits that do not yet count those meshes: it may visit more instances, never
+// fewer, and so finds the same closest hits.) Returns false, having done nothing, when the
+// packets cannot share.
+inline bool trace_packets_together(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) {
+    if (t_min < 0) return false;
+    const int packet_count = (count + kLanes - 1) / kLanes;
+    auto rays_in = [&](int p) { return count - p * kLanes < kLanes ? count - p * kLanes : kLanes; };
+    SharedPacket packets[kMaxSharedPackets];
+    for (int p = 0; p < packet_count; ++p) {
+        SharedPacket& packet = packets[p];
+        packet.r = load_packet(rays + p * kLanes, rays_in(p));
+        SameOctant octant;
+        AxisSet sets[6];
+        if (!same_octant(packet.r, octant) || !one_origin(packet.r) || axis_sets(packet.r, sets) != 1) return false;
+        packet.w = make_watertight_packet(packet.r, sets[0]);
+        packet.f = make_frustum(packet.r, octant);
+        for (int axis = 0; axis < 3; ++axis)
+            if (packet.f.near[axis] != packets[0].f.near[axis] || !(packet.f.origin[axis] == packets[0].f.origin[axis]))
+                return false;
+    }
+    static_assert(kMaxSharedPackets == 4, "one state per packet below");
+    auto state = [&](int p) {
+        return PacketState{view, rays + p * kLanes, hits + p * kLanes, p < packet_count ? rays_in(p) : 0, t_min,
+                           splat(t_min), splat(0.0f)};
+    };
+    PacketState states[kMaxSharedPackets] = {state(0), state(1), state(2), state(3)};
+
+    // The untransformed meshes the packets reach, and which packets reach each (a bit each).
+    constexpr int kMaxMeshes = 16;
+    uint32_t mesh_ids[kMaxMeshes];
+    unsigned reached_by[kMaxMeshes];
+    int mesh_count = 0;
+    for (int p = 0; p < packet_count; ++p) {
+        SharedPacket& packet = packets[p];
+        PacketState& s = states[p];
+        packet.s = &s;
+        refresh_best(s);
+        // Planes are unbounded and few: each is tested outside the BVH, as in trace_packet.
+        for (uint32_t i = 0; i < view.plane_count; ++i)
+            intersect_shape_lanes(s, packet.r, view.plane_instances[i], packet.r.live);
+        if (view.instance_node_count == 0) continue;
+        auto visit = [&](uint32_t first, uint32_t n, VM lanes) {
+            for (uint32_t i = first; i < first + n; ++i) {
+                const uint32_t id = view.instance_ids[i];
+                const Instance& instance = view.instances[id];
+                if (instance.kind == ShapeKind::Mesh && instance.transform == kNoTransformIndex) {
+                    if (!view.meshes[instance.shape].nodes) continue;
+                    int m = 0;
+                    while (m < mesh_count && mesh_ids[m] != id) ++m;
+                    if (m < mesh_count || mesh_count < kMaxMeshes) {
+                        if (m == mesh_count) {
+                            mesh_ids[mesh_count] = id;
+                            reached_by[mesh_count++] = 0;
+                        }
+                        reached_by[m] |= 1u << p;
+                        continue;
+                    }
+                }
+                intersect_instance_packet(s, packet.r, id, lanes);  // every other object, now
+            }
+            return false;
+        };
+        traverse_packet(view.instance_nodes, packet.r, s.t_min_v, [&] { return cull_distance_v(s.best_t); }, visit);
+    }
+    for (int m = 0; m < mesh_count; ++m) {
+        const uint32_t id = mesh_ids[m];
+        const MeshView& mesh = view.meshes[view.instances[id].shape];
+        int members[kMaxSharedPackets], member_count = 0;
+        for (unsigned b = reached_by[m]; b; b &= b - 1) members[member_count++] = static_cast<int>(lowest_bit(b));
+        const PacketFrustum block = shared_frustum(packets, members, member_count);
+        if (member_count == 1 || frustum_too_wide(block, mesh)) {  // each packet as in trace_packet
+            for (int i = 0; i < member_count; ++i) {
+                const SharedPacket& packet = packets[members[i]];
+                walk_mesh_packet(*packet.s, packet.r, packet.w, mesh, id, &packet.f);
+            }
+            continue;
+        }
+        traverse_frustum_shared(mesh, block, packets, members, member_count, t_min, id);
+    }
+    return true;
+}
+#endif
+
+// trace_packet for each packet of rays[0, count) (kLanes to a packet, count <= kMaxSharedPackets
+// * kLanes), together where they can be (trace_packets_together).
+inline void trace_packets(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) {
+    RAYCAST_DCHECK(count >= 1 && count <= kMaxSharedPackets * kLanes);
+#ifdef RAYCAST_PACKET_FRUSTUM
+    if (count > kLanes && trace_packets_together(view, rays, count, t_min, hits)) return;
+#endif
+    for (int first = 0; first < count; first += kLanes)
+        trace_packet(view, rays + first, count - first < kLanes ? count - first : kLanes, t_min, hits + first);
 }

@@ -34,6 +34,10 @@ struct MeshView {
 /// of its rays enter, and each ray's own box tests, lane by lane, do less work.
 constexpr float kFrustumMaxFootprint = 2.0f;
 
+/// The most packets that PacketKernel::intersect_packets walks together (an 8x8 block of pixels
+/// in 4x4 packets).
+constexpr int kMaxSharedPackets = 4;
+
 struct PacketSceneView {
     const Scene* scene = nullptr;
     const Instance* instances = nullptr;
@@ -59,6 +63,7 @@ struct PacketKernel {
     void (*intersect)(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) = nullptr;
     void (*occluded)(const PacketSceneView& view, const Ray* rays, int count, float t_min, const float* t_max,
                      bool* blocked, const BackFaceSkipping& skipping) = nullptr;
+    void (*intersect_packets)(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) = nullptr;
 };
 
 /// What one group test found, lane by lane (lane i: the group's triangle i): hits has bit i set
@@ -86,6 +91,7 @@ struct MeshRayKernel {
 // One kernel of each kind per instruction set; which exist depends on the compiler and the target.
 #define RAYCAST_DECLARE_PACKET_KERNEL                                                                      \
     void intersect(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits);        \
+    void intersect_packets(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits); \
     void occluded(const PacketSceneView& view, const Ray* rays, int count, float t_min, const float* t_max, \
                   bool* blocked, const BackFaceSkipping& skipping);
 namespace packet_portable {
