@@ -39,6 +39,36 @@ TEST(ToolsTest, MeshgenRefusesMalformedNumbers) {
     EXPECT_TRUE(files_in(dir).empty());
 }
 
+// As raycast and GNU tools read their command lines: --help prints the usage on standard output
+// and exits 0 (it had been a usage error on standard error), and "--name=value" reads as
+// "--name value".
+TEST(ToolsTest, ToolsTakeHelpAndAttachedValuesAsRaycastDoes) {
+    const std::string dir = temp_dir("tools/help");
+    for (const char* tool : {"raycast_meshgen", "raycast_revolve"})
+        for (const char* help : {"--help", "-h"}) {
+            const RunResult run = run_command("cd '" + dir + "' && '" + std::string(RAYCAST_BINARY_DIR) + "/" + tool +
+                                              "' " + help + " 2>/dev/null");
+            EXPECT_EQ(run.exit_code, 0) << tool << " " << help;
+            EXPECT_EQ(run.output.rfind(std::string("usage: ") + tool + " ", 0), 0u) << run.output;
+        }
+    const RunResult spaced = run_tool("raycast_meshgen", "bumpy-sphere 1000 a.obj --seed 7 --bumps 0.1", dir);
+    const RunResult attached = run_tool("raycast_meshgen", "bumpy-sphere 1000 b.obj --seed=7 --bumps=0.1", dir);
+    ASSERT_EQ(spaced.exit_code, 0) << spaced.output;
+    ASSERT_EQ(attached.exit_code, 0) << attached.output;
+    EXPECT_EQ(read_file(dir + "/a.obj"), read_file(dir + "/b.obj"));
+    const RunResult bad = run_tool("raycast_meshgen", "bumpy-sphere 1000 c.obj --seed=x", dir);
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_EQ(bad.output, "raycast_meshgen: --seed needs a whole number from 0 to 2^64 - 1, got 'x'\n");
+
+    write_file(dir + "/s.txt", read_file(std::string(RAYCAST_SOURCE_DIR) + "/scenes/revolution.txt"));
+    const RunResult revolved = run_tool("raycast_revolve", "s.txt o.txt --along=8 --around=9", dir);
+    ASSERT_EQ(revolved.exit_code, 0) << revolved.output;
+    EXPECT_NE(revolved.output.find("(8 x 9 each)"), std::string::npos) << revolved.output;
+    const RunResult small = run_tool("raycast_revolve", "s.txt p.txt --along=2", dir);
+    EXPECT_EQ(small.exit_code, 2);
+    EXPECT_EQ(small.output, "raycast_revolve: --along needs a whole number from 3 to 100000, got '2'\n");
+}
+
 // The mesh is written to a temporary file and renamed: a failed write leaves nothing at the path
 // (it had left a mesh cut mid-line). What it writes loads in raycast with the count it prints.
 TEST(ToolsTest, MeshgenWritesWholeMeshesOrNone) {

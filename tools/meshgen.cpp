@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "base/command_line.h"
 #include "base/error.h"
 #include "base/write_file.h"
 
@@ -196,29 +197,41 @@ bool read_number(const char* text, double& value) {
            std::strpbrk(text, "xXnN") == nullptr;  // no hexadecimal, no nan or inf
 }
 
+constexpr const char* kUsage =
+    "usage: raycast_meshgen bumpy-sphere|terrain|torus TRIANGLES OUTPUT.obj [--seed N] [--quads] [--normals]\n"
+    "                       [--bumps AMPLITUDE]\n"
+    "Writes a test mesh of about TRIANGLES triangles (8 to 200000000; it prints the exact count): a\n"
+    "closed sphere of radius about 1 with smooth random bumps, a height field over [-1, 1]^2, or a torus.\n"
+    "--seed picks the bumps (default 1), --bumps their height as a fraction of the radius (0 to 1,\n"
+    "default 0.04; not for a torus), --quads writes quads, --normals vertex normals (torus only).\n";
+
 int usage() {
-    std::fputs("usage: raycast_meshgen bumpy-sphere|terrain|torus TRIANGLES OUTPUT.obj [--seed N] [--quads] "
-               "[--normals] [--bumps AMPLITUDE]\n",
-               stderr);
+    std::fputs(kUsage, stderr);
     return 2;
 }
 
 int generate(int argc, char** argv) {
-    if (argc < 4) return usage();
-    const std::string shape = argv[1];
+    const std::vector<std::string> args = raycast::split_attached_values(argc, argv);  // "--seed=3" as "--seed 3"
+    if (raycast::asks_for_help(args)) {
+        std::fputs(kUsage, stdout);
+        return 0;
+    }
+    if (args.size() < 3) return usage();
+    const std::string shape = args[0];
     double target = 0;
-    if (!read_number(argv[2], target) || !(target >= 8) || target > 2e8) {
-        std::fprintf(stderr, "raycast_meshgen: TRIANGLES must be a number from 8 to 200000000, got '%s'\n", argv[2]);
+    if (!read_number(args[1].c_str(), target) || !(target >= 8) || target > 2e8) {
+        std::fprintf(stderr, "raycast_meshgen: TRIANGLES must be a number from 8 to 200000000, got '%s'\n",
+                     args[1].c_str());
         return 2;
     }
-    const std::string output = argv[3];
+    const std::string output = args[2];
     uint64_t seed = 1;
     bool quads = false, with_normals = false, bumps_given = false;
     double amplitude = 0.04;
-    for (int i = 4; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (arg == "--seed" && i + 1 < argc) {
-            const char* text = argv[++i];
+    for (size_t i = 3; i < args.size(); ++i) {
+        const std::string& arg = args[i];
+        if (arg == "--seed" && i + 1 < args.size()) {
+            const char* text = args[++i].c_str();
             char* end = nullptr;
             errno = 0;
             seed = std::strtoull(text, &end, 10);
@@ -230,10 +243,11 @@ int generate(int argc, char** argv) {
             quads = true;
         } else if (arg == "--normals") {
             with_normals = true;
-        } else if (arg == "--bumps" && i + 1 < argc) {
+        } else if (arg == "--bumps" && i + 1 < args.size()) {
             // Bumps are a fraction of the unit radius: past 1 the surface folds through itself.
-            if (!read_number(argv[++i], amplitude) || amplitude < 0 || amplitude > 1) {
-                std::fprintf(stderr, "raycast_meshgen: --bumps needs a number from 0 to 1, got '%s'\n", argv[i]);
+            if (!read_number(args[++i].c_str(), amplitude) || amplitude < 0 || amplitude > 1) {
+                std::fprintf(stderr, "raycast_meshgen: --bumps needs a number from 0 to 1, got '%s'\n",
+                             args[i].c_str());
                 return 2;
             }
             bumps_given = true;

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "base/command_line.h"
 #include "base/error.h"
 #include "base/limits.h"
 #include "base/write_file.h"
@@ -147,23 +148,34 @@ int count_option(const char* text, const char* name) {
     return static_cast<int>(value);
 }
 
+constexpr const char* kUsage =
+    "usage: raycast_revolve SCENE OUTPUT.txt [--along N] [--around M]\n"
+    "Writes OUTPUT.txt, SCENE with each RevSurface replaced by a TriangleMesh, and the meshes beside it\n"
+    "(OUTPUT.rev0.obj, OUTPUT.rev1.obj, ...): N steps along the profile by M around the axis, each\n"
+    "from 3 to 100000 (default 256 and 256).\n";
+
 int run(int argc, char** argv) {
-    if (argc < 3) {
-        std::fputs("usage: raycast_revolve SCENE OUTPUT.txt [--along N] [--around M]\n", stderr);
+    const std::vector<std::string> args = split_attached_values(argc, argv);  // "--along=8" as "--along 8"
+    if (asks_for_help(args)) {
+        std::fputs(kUsage, stdout);
+        return 0;
+    }
+    if (args.size() < 2) {
+        std::fputs(kUsage, stderr);
         return 2;
     }
-    const std::string scene = argv[1], given_output = argv[2];
+    const std::string scene = args[0], given_output = args[1];
     int along = 256, around = 256;
-    for (int i = 3; i < argc; ++i) {
-        if (i + 1 < argc && std::strcmp(argv[i], "--along") == 0)
-            along = count_option(argv[++i], "--along");
-        else if (i + 1 < argc && std::strcmp(argv[i], "--around") == 0)
-            around = count_option(argv[++i], "--around");
-        else if (std::strcmp(argv[i], "--along") == 0 || std::strcmp(argv[i], "--around") == 0) {
-            std::fprintf(stderr, "raycast_revolve: %s needs a whole number from 3 to 100000\n", argv[i]);
+    for (size_t i = 2; i < args.size(); ++i) {
+        if (i + 1 < args.size() && args[i] == "--along")
+            along = count_option(args[++i].c_str(), "--along");
+        else if (i + 1 < args.size() && args[i] == "--around")
+            around = count_option(args[++i].c_str(), "--around");
+        else if (args[i] == "--along" || args[i] == "--around") {
+            std::fprintf(stderr, "raycast_revolve: %s needs a whole number from 3 to 100000\n", args[i].c_str());
             return 2;
         } else {
-            std::fprintf(stderr, "raycast_revolve: unknown argument '%s'\n", argv[i]);
+            std::fprintf(stderr, "raycast_revolve: unknown argument '%s'\n", args[i].c_str());
             return 2;
         }
     }

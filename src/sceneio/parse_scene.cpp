@@ -400,6 +400,14 @@ private:
     }
 
     void parse_background(const Token& keyword) {
+        // A second block replaces the first, as a second camera, Lights or Materials block does:
+        // what it leaves out is the default again, not the earlier block's.
+        if (background_line_ != 0) {
+            warning(keyword, string_printf("this Background block replaces the one at line %d", background_line_));
+            desc_.background = SceneDesc{}.background;
+            desc_.ambient.reset();
+        }
+        background_line_ = lexer_.location(keyword).line;
         std::vector<Field> fields = {
             {"color", [&](const Token&) { desc_.background = read_vec3("color"); }, false},
             {"ambientLight", [&](const Token&) { desc_.ambient = read_vec3("ambientLight"); }, false},
@@ -878,6 +886,7 @@ private:
     static constexpr int kMaterialInError = -2;  // the last MaterialIndex was wrong (and reported)
     int current_material_ = kNoMaterial;
     bool camera_block_seen_ = false;
+    int background_line_ = 0;  // of the Background block read, 0 before one
     int curve_count_ = 0;  // BezierCurve and BsplineCurve objects, which draw nothing
     Token first_curve_;
     bool group_block_seen_ = false;

@@ -195,6 +195,20 @@ TEST(ParseSceneTest, ReadsTheBackgroundColourEvenAfterMaterials) {
     EXPECT_EQ(desc.background, Vec3f(0.1f, 0.7f, 0.2f));
 }
 
+TEST(ParseSceneTest, ALaterBackgroundReplacesTheEarlierOneWithAWarning) {
+    // What the second block leaves out is the default again: no ambient light from the first.
+    const SceneDesc desc = parse(kCamera + "Background { color 0 0 0 ambientLight 0.5 0.5 0.5 }\n" +
+                                 "Background { color 1 1 1 }\nGroup { numObjects 0 }");
+    EXPECT_EQ(desc.background, Vec3f(1, 1, 1));
+    EXPECT_FALSE(desc.ambient);
+    ASSERT_EQ(desc.warnings.size(), 1u);
+    EXPECT_EQ(located(desc.warnings[0]), "s.txt:3:1: this Background block replaces the one at line 2");
+    const SceneDesc colour_only = parse(kCamera + "Background { ambientLight 0.2 0.2 0.2 color 0 0 1 }\n" +
+                                        "Background { ambientLight 0.1 0.1 0.1 }\nGroup { numObjects 0 }");
+    EXPECT_EQ(colour_only.background, Vec3f(0.5f, 0.5f, 0.5f));
+    EXPECT_EQ(colour_only.ambient.value_or(Vec3f(-1, -1, -1)), Vec3f(0.1f, 0.1f, 0.1f));
+}
+
 TEST(ParseSceneTest, ReadsTheMitAmbientLightInAnyOrder) {
     const SceneDesc desc =
         parse(kCamera + "Background { ambientLight 0.1 0.2 0.3 color 0 0 1 }\nGroup { numObjects 0 }");
