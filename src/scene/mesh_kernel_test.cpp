@@ -524,12 +524,13 @@ TEST(PacketIntersect, CameraPacketsNarrowOrWideAgainstTheLeavesGetTheirSingleRay
 }
 
 // A block of a pinhole camera's rays, up to kMaxSharedPackets packets of 4x4 pixels, as the
-// renderer makes them: the packets walk each untransformed mesh together, and everything else
-// (planes, spheres, transformed meshes, the instance BVH) each on its own. Blocks narrow and wide
-// against the leaves, whole and cut short (the edge of an image), at one mesh alone, at a mesh
-// with a plane, a sphere and a transformed copy beside it, at 24 meshes (more than the kernel
-// notes at once) and at 64 transformed copies, and blocks that cannot share (one ray from another
-// origin, or going the other way): each ray gets exactly its single-ray hit.
+// renderer makes them: where every object lies in one leaf of the instance BVH, the packets walk
+// each untransformed mesh together and test everything else (planes, spheres) each on its own;
+// elsewhere each packet traces alone. Blocks narrow and wide against the leaves, whole and cut
+// short (the edge of an image), at one mesh alone, at a mesh with a sphere and a plane, at a mesh
+// with a transformed copy, at 24 meshes and at 64 transformed copies, and blocks that cannot
+// share (one ray from another origin, or going the other way): each ray gets exactly its
+// single-ray hit.
 TEST(PacketIntersect, BlocksOfCameraPacketsGetTheirSingleRayHitsWhetherTheyShareOneWalkOrNot) {
     std::mt19937 rng(59);
     std::uniform_real_distribution<float> u(-1, 1), u01(0, 1);
@@ -538,13 +539,19 @@ TEST(PacketIntersect, BlocksOfCameraPacketsGetTheirSingleRayHitsWhetherTheyShare
         desc.root->children.push_back(mesh_object(add_mesh(desc, grid_mesh(rng, 48, 0.3f))));
         return build(std::move(desc));
     };
-    auto mesh_and_others = [&] {
+    auto mesh_and_others = [&] {  // two objects in the instance BVH's one leaf, and a plane
+        SceneDesc desc = scene_desc();
+        desc.root->children.push_back(mesh_object(add_mesh(desc, grid_mesh(rng, 32, 0.6f))));
+        desc.root->children.push_back(sphere({16, 16, 0}, 0.5f));  // inside the mesh's box: one leaf
+        desc.root->children.push_back(plane({0, 0, 1}, -0.5f));
+        return build(std::move(desc));
+    };
+    auto mesh_and_copy = [&] {  // a mesh and a transformed copy: an instance BVH of two leaves
         SceneDesc desc = scene_desc();
         const int id = add_mesh(desc, grid_mesh(rng, 32, 0.6f));
         desc.root->children.push_back(mesh_object(id));
         desc.root->children.push_back(transform(Mat4::translate({4, 3, 1.5f}) * Mat4::scale({0.5f, 0.5f, 1}), mesh_object(id)));
         desc.root->children.push_back(sphere({16, 16, 2}, 3));
-        desc.root->children.push_back(plane({0, 0, 1}, -0.5f));
         return build(std::move(desc));
     };
     auto many_meshes = [&] {
@@ -566,7 +573,9 @@ TEST(PacketIntersect, BlocksOfCameraPacketsGetTheirSingleRayHitsWhetherTheyShare
         }
         return build(std::move(desc));
     };
-    const Scene scenes[4] = {mesh_alone(), mesh_and_others(), many_meshes(), many_copies()};
+    const Scene scenes[5] = {mesh_alone(), mesh_and_others(), mesh_and_copy(), many_meshes(), many_copies()};
+    // The first two share the walk (every object in one leaf); the others trace packet by packet.
+    for (int i = 0; i < 5; ++i) ASSERT_EQ(scenes[i].instance_bvh.nodes[0].count != 0, i < 2) << "scene " << i;
     int hit_count = 0, total = 0;
     for (const Scene& scene : scenes)
         for (PacketIsa isa : packet_isas()) {

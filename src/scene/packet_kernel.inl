@@ -1182,14 +1182,16 @@ inline void traverse_frustum_shared(const MeshView& mesh, const PacketFrustum& b
 
 // trace_packet for each packet of rays[0, count) (kLanes to a packet), the packets walking each
 // untransformed mesh together, when they can: rays of one origin that go one way along every
-// axis (a pinhole camera's) and t_min >= 0. Each packet first walks the instance BVH alone, as
-// in trace_packet, testing every other object at once and noting the meshes it reaches; then each
-// mesh is walked by the packets that reached it, together. (A packet's walk of the instance BVH
-// then culls with hits that do not yet count those meshes: it may visit more instances, never
-// fewer, and so finds the same closest hits.) Returns false, having done nothing, when the
+// axis (a pinhole camera's), t_min >= 0, and a scene whose objects all lie in one leaf of its
+// instance BVH (one mesh, or a few objects), where trace_packet tests every one of them anyway.
+// Each packet first tests the other objects, as trace_packet does, noting the meshes it reaches;
+// then each mesh is walked by the packets that reached it, together, the order of the leaf's
+// objects being all that changes (and a closest hit does not depend on it). In a deeper instance
+// BVH the meshes' hits would come too late to cull the objects behind them: a mesh in front of
+// 3,600 spheres rendered 1.31x slower that way. Returns false, having done nothing, when the
 // packets cannot share.
 inline bool trace_packets_together(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) {
-    if (t_min < 0) return false;
+    if (!(t_min >= 0) || view.instance_node_count == 0 || view.instance_nodes[0].count == 0) return false;
     const int packet_count = (count + kLanes - 1) / kLanes;
     auto rays_in = [&](int p) { return count - p * kLanes < kLanes ? count - p * kLanes : kLanes; };
     SharedPacket packets[kMaxSharedPackets];
@@ -1206,9 +1208,10 @@ inline bool trace_packets_together(const PacketSceneView& view, const Ray* rays,
                 return false;
     }
     static_assert(kMaxSharedPackets == 4, "one state per packet below");
-    auto state = [&](int p) {
-        return PacketState{view, rays + p * kLanes, hits + p * kLanes, p < packet_count ? rays_in(p) : 0, t_min,
-                           splat(t_min), splat(0.0f)};
+    auto state = [&](int p) {  // the packets past packet_count are never used (and point at the first's rays)
+        const int at = p < packet_count ? p * kLanes : 0;
+        return PacketState{view, rays + at, hits + at, p < packet_count ? rays_in(p) : 0, t_min, splat(t_min),
+                           splat(0.0f)};
     };
     PacketState states[kMaxSharedPackets] = {state(0), state(1), state(2), state(3)};
 
