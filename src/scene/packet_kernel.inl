@@ -1060,15 +1060,15 @@ inline float packet_cull(const SharedPacket& packet) {
     return max_of_lanes(cull_distance_v(packet.s->best_t), packet.r.live);
 }
 
-// The frustum of the packets `members` together: their ranges of inverses, from their one origin
+// The frustum of packets[0, count) together: their ranges of inverses, from their one origin
 // (the caller has checked that they share it and their near bounds), and their spread as
 // make_frustum finds a packet's, over all their lanes.
-inline PacketFrustum shared_frustum(const SharedPacket* packets, const int* members, int member_count) {
-    PacketFrustum block = packets[members[0]].f;
+inline PacketFrustum shared_frustum(const SharedPacket* packets, int count) {
+    PacketFrustum block = packets[0].f;
     float widest = 0;
     for (int axis = 0; axis < 3; ++axis) {
-        for (int m = 1; m < member_count; ++m) {
-            const PacketFrustum& f = packets[members[m]].f;
+        for (int p = 1; p < count; ++p) {
+            const PacketFrustum& f = packets[p].f;
             block.near_lo[axis] = f.near_lo[axis] < block.near_lo[axis] ? f.near_lo[axis] : block.near_lo[axis];
             block.near_hi[axis] = f.near_hi[axis] > block.near_hi[axis] ? f.near_hi[axis] : block.near_hi[axis];
             block.far_lo[axis] = f.far_lo[axis] < block.far_lo[axis] ? f.far_lo[axis] : block.far_lo[axis];
@@ -1085,10 +1085,10 @@ inline PacketFrustum shared_frustum(const SharedPacket* packets, const int* memb
     return block;
 }
 
-// traverse_frustum with the frustum of the packets `members` (shared_frustum), each leaf tested
-// by those of them whose own frustum enters its box before their own cull distance.
+// traverse_frustum with the frustum of packets[0, count) (shared_frustum), each leaf tested by
+// those of them whose own frustum enters its box before their own cull distance.
 inline void traverse_frustum_shared(const MeshView& mesh, const PacketFrustum& block, const SharedPacket* packets,
-                                    const int* members, int member_count, float t_min, uint32_t object) {
+                                    int count, float t_min, uint32_t object) {
     const WideBvhNode* nodes = mesh.nodes;
     struct Pending {
         uint32_t ref;
@@ -1098,24 +1098,24 @@ inline void traverse_frustum_shared(const MeshView& mesh, const PacketFrustum& b
     Pending stack[kWideStackSize];
     int stack_size = 0;
     Pending current{0, 0.0f, 0, 0};  // the root node
-    // The members' frusta a lane each (frustum_children's terms), for their tests at the leaves.
+    // The packets' frusta a lane each (frustum_children's terms), for their tests at the leaves.
     alignas(32) float culls[8] = {};
     alignas(32) float near_lo[3][8] = {}, near_hi[3][8] = {}, far_lo[3][8] = {}, far_hi[3][8] = {};
-    for (int m = 0; m < member_count; ++m) {
-        const PacketFrustum& f = packets[members[m]].f;
+    for (int p = 0; p < count; ++p) {
+        const PacketFrustum& f = packets[p].f;
         for (int axis = 0; axis < 3; ++axis) {
-            near_lo[axis][m] = f.near_lo[axis];
-            near_hi[axis][m] = f.near_hi[axis];
-            far_lo[axis][m] = f.far_lo[axis];
-            far_hi[axis][m] = f.far_hi[axis];
+            near_lo[axis][p] = f.near_lo[axis];
+            near_hi[axis][p] = f.near_hi[axis];
+            far_lo[axis][p] = f.far_lo[axis];
+            far_hi[axis][p] = f.far_hi[axis];
         }
-        culls[m] = packet_cull(packets[members[m]]);
+        culls[p] = packet_cull(packets[p]);
     }
-    static_assert(kMaxSharedPackets <= 8, "a member a lane of wide8");
-    const unsigned member_lanes = (1u << member_count) - 1;
+    static_assert(kMaxSharedPackets <= 8, "a packet a lane of wide8");
+    const unsigned packet_lanes = (1u << count) - 1;
     auto max_cull = [&] {
         float cull = culls[0];
-        for (int m = 1; m < member_count; ++m) cull = culls[m] > cull ? culls[m] : cull;
+        for (int p = 1; p < count; ++p) cull = culls[p] > cull ? culls[p] : cull;
         return cull;
     };
     float cull = max_cull();
@@ -1129,23 +1129,23 @@ inline void traverse_frustum_shared(const MeshView& mesh, const PacketFrustum& b
                 float t[kWideBvhWidth];
                 wide8::store(t, t_entry);
                 Pending entered[kWideBvhWidth];
-                int count = 0;
+                int entered_count = 0;
                 for (; hits; hits &= hits - 1) {
                     const unsigned slot = lowest_bit(hits);
                     const Pending child{node.child[slot], t[slot], current.ref, slot};
                     prefetch_child(mesh, child.ref);
-                    int i = count++;
+                    int i = entered_count++;
                     for (; i > 0 && entered[i - 1].t_entry < child.t_entry; --i) entered[i] = entered[i - 1];
                     entered[i] = child;
                 }
-                RAYCAST_DCHECK(stack_size + count - 1 <= kWideStackSize);
-                for (int i = 0; i + 1 < count; ++i) stack[stack_size++] = entered[i];
-                current = entered[count - 1];
+                RAYCAST_DCHECK(stack_size + entered_count - 1 <= kWideStackSize);
+                for (int i = 0; i + 1 < entered_count; ++i) stack[stack_size++] = entered[i];
+                current = entered[entered_count - 1];
                 continue;
             }
         } else {
-            // Every member's frustum against the leaf's box at once, a member a lane, as
-            // frustum_children tests a node's children (the members share the block's origin
+            // Every packet's frustum against the leaf's box at once, a packet a lane, as
+            // frustum_children tests a node's children (the packets share the block's origin
             // and near bounds).
             using wide8::load;
             using wide8::vmax;
@@ -1160,12 +1160,11 @@ inline void traverse_frustum_shared(const MeshView& mesh, const PacketFrustum& b
                 entry = vmax(entry, vmin(to_near * load(near_lo[axis]), to_near * load(near_hi[axis])));
                 exit = vmin(exit, vmax(to_far * load(far_lo[axis]), to_far * load(far_hi[axis])));
             }
-            for (unsigned b = wide8::bits(entry <= exit) & member_lanes; b; b &= b - 1) {
-                const int m = static_cast<int>(lowest_bit(b));
-                const SharedPacket& packet = packets[members[m]];
-                intersect_leaf_packet(*packet.s, packet.r, packet.w, mesh, object, current.ref & kWidePayloadMask,
-                                      sheared);
-                culls[m] = packet_cull(packet);
+            for (unsigned b = wide8::bits(entry <= exit) & packet_lanes; b; b &= b - 1) {
+                const unsigned p = lowest_bit(b);
+                intersect_leaf_packet(*packets[p].s, packets[p].r, packets[p].w, mesh, object,
+                                      current.ref & kWidePayloadMask, sheared);
+                culls[p] = packet_cull(packets[p]);
             }
             cull = max_cull();
         }
@@ -1184,12 +1183,11 @@ inline void traverse_frustum_shared(const MeshView& mesh, const PacketFrustum& b
 // untransformed mesh together, when they can: rays of one origin that go one way along every
 // axis (a pinhole camera's), t_min >= 0, and a scene whose objects all lie in one leaf of its
 // instance BVH (one mesh, or a few objects), where trace_packet tests every one of them anyway.
-// Each packet first tests the other objects, as trace_packet does, noting the meshes it reaches;
-// then each mesh is walked by the packets that reached it, together, the order of the leaf's
-// objects being all that changes (and a closest hit does not depend on it). In a deeper instance
-// BVH the meshes' hits would come too late to cull the objects behind them: a mesh in front of
-// 3,600 spheres rendered 1.31x slower that way. Returns false, having done nothing, when the
-// packets cannot share.
+// Each packet first tests the other objects, as trace_packet does; then the packets walk each
+// untransformed mesh together, the order of the leaf's objects being all that changes (and a
+// closest hit does not depend on it). In a deeper instance BVH the meshes' hits would come too
+// late to cull the objects behind them: a mesh in front of 3,600 spheres rendered 1.31x slower
+// that way. Returns false, having done nothing, when the packets cannot share.
 inline bool trace_packets_together(const PacketSceneView& view, const Ray* rays, int count, float t_min, Hit* hits) {
     if (!(t_min >= 0) || view.instance_node_count == 0 || view.instance_nodes[0].count == 0) return false;
     const int packet_count = (count + kLanes - 1) / kLanes;
@@ -1215,11 +1213,13 @@ inline bool trace_packets_together(const PacketSceneView& view, const Ray* rays,
     };
     PacketState states[kMaxSharedPackets] = {state(0), state(1), state(2), state(3)};
 
-    // The untransformed meshes the packets reach, and which packets reach each (a bit each).
-    constexpr int kMaxMeshes = 16;
-    uint32_t mesh_ids[kMaxMeshes];
-    unsigned reached_by[kMaxMeshes];
-    int mesh_count = 0;
+    // Every object is in the instance BVH's one leaf: the untransformed meshes are walked
+    // together, after each packet has tested the rest as trace_packet does.
+    const BvhNode& leaf = view.instance_nodes[0];
+    auto shared = [&](uint32_t id) {
+        const Instance& instance = view.instances[id];
+        return instance.kind == ShapeKind::Mesh && instance.transform == kNoTransformIndex;
+    };
     for (int p = 0; p < packet_count; ++p) {
         SharedPacket& packet = packets[p];
         PacketState& s = states[p];
@@ -1228,44 +1228,21 @@ inline bool trace_packets_together(const PacketSceneView& view, const Ray* rays,
         // Planes are unbounded and few: each is tested outside the BVH, as in trace_packet.
         for (uint32_t i = 0; i < view.plane_count; ++i)
             intersect_shape_lanes(s, packet.r, view.plane_instances[i], packet.r.live);
-        if (view.instance_node_count == 0) continue;
-        auto visit = [&](uint32_t first, uint32_t n, VM lanes) {
-            for (uint32_t i = first; i < first + n; ++i) {
-                const uint32_t id = view.instance_ids[i];
-                const Instance& instance = view.instances[id];
-                if (instance.kind == ShapeKind::Mesh && instance.transform == kNoTransformIndex) {
-                    if (!view.meshes[instance.shape].nodes) continue;
-                    int m = 0;
-                    while (m < mesh_count && mesh_ids[m] != id) ++m;
-                    if (m < mesh_count || mesh_count < kMaxMeshes) {
-                        if (m == mesh_count) {
-                            mesh_ids[mesh_count] = id;
-                            reached_by[mesh_count++] = 0;
-                        }
-                        reached_by[m] |= 1u << p;
-                        continue;
-                    }
-                }
-                intersect_instance_packet(s, packet.r, id, lanes);  // every other object, now
-            }
-            return false;
-        };
-        traverse_packet(view.instance_nodes, packet.r, s.t_min_v, [&] { return cull_distance_v(s.best_t); }, visit);
+        for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
+            if (!shared(view.instance_ids[i])) intersect_instance_packet(s, packet.r, view.instance_ids[i], packet.r.live);
     }
-    for (int m = 0; m < mesh_count; ++m) {
-        const uint32_t id = mesh_ids[m];
+    const PacketFrustum block = shared_frustum(packets, packet_count);
+    for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+        const uint32_t id = view.instance_ids[i];
+        if (!shared(id)) continue;
         const MeshView& mesh = view.meshes[view.instances[id].shape];
-        int members[kMaxSharedPackets], member_count = 0;
-        for (unsigned b = reached_by[m]; b; b &= b - 1) members[member_count++] = static_cast<int>(lowest_bit(b));
-        const PacketFrustum block = shared_frustum(packets, members, member_count);
-        if (member_count == 1 || frustum_too_wide(block, mesh)) {  // each packet as in trace_packet
-            for (int i = 0; i < member_count; ++i) {
-                const SharedPacket& packet = packets[members[i]];
-                walk_mesh_packet(*packet.s, packet.r, packet.w, mesh, id, &packet.f);
-            }
+        if (!mesh.nodes) continue;
+        if (frustum_too_wide(block, mesh)) {  // each packet as in trace_packet
+            for (int p = 0; p < packet_count; ++p)
+                walk_mesh_packet(*packets[p].s, packets[p].r, packets[p].w, mesh, id, &packets[p].f);
             continue;
         }
-        traverse_frustum_shared(mesh, block, packets, members, member_count, t_min, id);
+        traverse_frustum_shared(mesh, block, packets, packet_count, t_min, id);
     }
     return true;
 }
