@@ -658,6 +658,21 @@ struct TriangleLanes {
     VF t, u1, u2, det;
 };
 
+// The lanes (of `live`) whose rays pass inside triangle `lane` of a group whose vertices are
+// sheared: test_triangle_packet's edge test alone, without its branches.
+inline VM inside_triangle_packet(const unsigned char* group, uint32_t lane, const ShearedVertices& sv, VM live) {
+    const uint32_t k = group[0];
+    const unsigned char* corners = group + group_corners_offset();
+    const uint32_t i0 = corners[lane], i1 = corners[k + lane], i2 = corners[2 * k + lane];
+    const VF ax = sv.x[i0], ay = sv.y[i0];
+    const VF bx = sv.x[i1], by = sv.y[i1];
+    const VF cx = sv.x[i2], cy = sv.y[i2];
+    const VF u0 = cx * by - cy * bx, u1 = ax * cy - ay * cx, u2 = bx * ay - by * ax;
+    const VF zero = splat(0.0f);
+    const VF least = vmin(vmin(u0, u1), u2), greatest = vmax(vmax(u0, u1), u2);
+    return andnot(live, (least < zero) & (greatest > zero));
+}
+
 inline TriangleLanes test_triangle_packet(const unsigned char* group, uint32_t lane, const ShearedVertices& sv,
                                           VM live, VF t_min) {
     const uint32_t k = group[0];
@@ -709,7 +724,13 @@ inline void intersect_leaf_packet(PacketState& s, const PacketRays& r, const Wat
     for (uint32_t block = first_block;;) {
         const unsigned char* group = mesh.groups[block].bytes;
         shear_vertices(group, w, sheared);
-        for (uint32_t lane = 0; lane < group[0]; ++lane) {
+        // The edge tests of every triangle first, with no branch between them, then the whole test
+        // for the triangles some ray passes inside (rarely more than one or two).
+        unsigned inside = 0;
+        for (uint32_t lane = 0; lane < group[0]; ++lane)
+            inside |= static_cast<unsigned>(any(inside_triangle_packet(group, lane, sheared, r.live))) << lane;
+        for (; inside; inside &= inside - 1) {
+            const uint32_t lane = lowest_bit(inside);
             const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, s.t_min_v);
             // The triangle's id is read only for a hit: the last part of the group.
             if (any(h.hit)) offer(s, h.hit, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block, lane);
@@ -788,7 +809,11 @@ inline void occluded_mesh_packet(PacketRays& r, const MeshView& mesh, float t_mi
             for (uint32_t block = first_block; any(lanes);) {
                 const unsigned char* group = mesh.groups[block].bytes;
                 shear_vertices(group, sets[i], sheared);
-                for (uint32_t lane = 0; lane < group[0]; ++lane) {
+                unsigned inside = 0;  // as intersect_leaf_packet: the edge tests first
+                for (uint32_t lane = 0; lane < group[0]; ++lane)
+                    inside |= static_cast<unsigned>(any(inside_triangle_packet(group, lane, sheared, lanes))) << lane;
+                for (; inside; inside &= inside - 1) {
+                    const uint32_t lane = lowest_bit(inside);
                     const TriangleLanes h = test_triangle_packet(group, lane, sheared, lanes, t_min_v);
                     if (!any(h.hit)) continue;
                     const VM now_blocked = h.hit & (h.t < t_max);
