@@ -299,9 +299,26 @@ private:
         CameraShadows shadows[kBlockPixels];
         for (int by = y_begin; by < y_end; by += block_side)
             for (int bx = x_begin; bx < x_end; bx += block_side) {
+                const int block_x_end = std::min(bx + block_side, x_end), block_y_end = std::min(by + block_side, y_end);
+                // Blocks lie within one part: kEmptyWindow is a multiple of their width and height.
+                if (worker.empty_parts[static_cast<size_t>((by - y_begin) / kEmptyWindow * parts_x +
+                                                           (bx - x_begin) / kEmptyWindow)]) {
+                    for (int y = by; y < block_y_end; ++y) {  // row by row (a pixel at a time was 3% of a 1M render)
+                        const size_t row = static_cast<size_t>(y - y_begin) * static_cast<size_t>(tile_width);
+                        const size_t first = row + static_cast<size_t>(bx - x_begin), last = row + static_cast<size_t>(block_x_end - x_begin);
+                        std::fill(worker.tile_colors.begin() + first, worker.tile_colors.begin() + last, miss_color_);
+                        if (targets_.normal_bytes)
+                            std::fill(worker.tile_normals.begin() + first, worker.tile_normals.begin() + last, miss_normal_);
+                    }
+                    const uint64_t missed = static_cast<uint64_t>((block_x_end - bx) * (block_y_end - by)) *
+                                            static_cast<uint64_t>(spp_);
+                    worker.counts.primary += missed;
+                    worker.counts.window_missed += missed;
+                    continue;
+                }
                 int count = 0;
-                for (int py = by; py < std::min(by + block_side, y_end); py += packet_h)  // a packet's pixels together
-                    for (int px = bx; px < std::min(bx + block_side, x_end); px += packet_w)
+                for (int py = by; py < block_y_end; py += packet_h)  // a packet's pixels together
+                    for (int px = bx; px < block_x_end; px += packet_w)
                         for (int y = py; y < std::min(py + packet_h, y_end); ++y)
                             for (int x = px; x < std::min(px + packet_w, x_end); ++x) {
                                 camera_x[count] = x + frame_.x_offset;
@@ -310,18 +327,6 @@ private:
                                               static_cast<size_t>(x - x_begin);
                                 ++count;
                             }
-                // Blocks lie within one part: kEmptyWindow is a multiple of their width and height.
-                if (worker.empty_parts[static_cast<size_t>((by - y_begin) / kEmptyWindow * parts_x +
-                                                           (bx - x_begin) / kEmptyWindow)]) {
-                    for (int k = 0; k < count; ++k) {
-                        worker.tile_colors[slot[k]] = miss_color_;
-                        if (targets_.normal_bytes) worker.tile_normals[slot[k]] = miss_normal_;
-                    }
-                    const uint64_t missed = static_cast<uint64_t>(count) * static_cast<uint64_t>(spp_);
-                    worker.counts.primary += missed;
-                    worker.counts.window_missed += missed;
-                    continue;
-                }
                 for (int s = 0; s < spp_; ++s) {
                     if (pixel_centres) {
                         float a[kBlockPixels], b[kBlockPixels];
