@@ -4,9 +4,11 @@
 // code: the same hits bit for bit, so that every path renders the same image.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -606,6 +608,66 @@ TEST(PacketIntersect, BlocksOfCameraPacketsGetTheirSingleRayHitsWhetherTheyShare
         }
     EXPECT_GT(hit_count, total / 2);
     EXPECT_LT(hit_count, total);
+}
+
+// A ray whose direction holds a NaN is outside every query's contract (scenes give finite
+// directions), but it must not bring the kernels down: it misses, its any-hit query finds
+// nothing, and the other rays of its packet or block get their single-ray answers. Camera-like
+// blocks and packets, with a NaN in one lane's direction, in one component or in all three.
+TEST(PacketIntersect, ARayWithANanDirectionMissesAndLeavesTheOtherRaysAlone) {
+    std::mt19937 rng(60);
+    std::uniform_real_distribution<float> u01(0, 1);
+    SceneDesc desc = scene_desc();
+    desc.root->children.push_back(mesh_object(add_mesh(desc, grid_mesh(rng, 48, 0.3f))));
+    const Scene scene = build(std::move(desc));
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    int hit_count = 0, total = 0;
+    for (PacketIsa isa : packet_isas()) {
+        const PacketTracer tracer(scene, isa);
+        const int lanes = tracer.lanes();
+        for (int block = 0; block < 60; ++block) {
+            const int count = block % 2 ? kMaxSharedPackets * lanes : lanes;
+            const Vec3f origin{4 + 16 * u01(rng), 4 + 16 * u01(rng), 4 + 20 * u01(rng)};
+            const Vec3f centre{0.7f + 0.6f * u01(rng), 0.7f + 0.6f * u01(rng), -1};
+            Ray rays[kMaxSharedPackets * kMaxPacketLanes];
+            // Camera rays (one origin), or shadow rays towards the sun (origins apart, one direction).
+            const bool camera = block % 4 < 2;
+            for (int k = 0; k < count; ++k) {
+                const Vec3f step{static_cast<float>(k % 8), static_cast<float>(k / 8), 0};
+                rays[k] = camera ? Ray{origin, centre + step * 1e-3f} : Ray{origin + step * 0.1f, centre};
+            }
+            const int bad = block % count;
+            for (int k = 0; k < count; ++k) {
+                if (k != bad && block % 5 != 4) continue;  // one ray, or (every fifth block) all of them
+                if (block % 3 == 0) {
+                    rays[k].direction = {nan, nan, nan};
+                } else {
+                    rays[k].direction[block % 3] = nan;
+                }
+            }
+            Hit hits[kMaxSharedPackets * kMaxPacketLanes];
+            tracer.intersect_packets(rays, count, 0, hits);
+            float t_max[kMaxPacketLanes];
+            bool blocked[kMaxPacketLanes];
+            for (int k = 0; k < lanes; ++k) t_max[k] = INFINITY;
+            const int first = bad / lanes * lanes;  // the any-hit query of the packet that holds the bad ray
+            const int in_packet = std::min(lanes, count - first);
+            tracer.occluded(rays + first, in_packet, 0, t_max, blocked);
+            EXPECT_FALSE(hits[bad].is_hit()) << packet_isa_name(isa) << ", block " << block;
+            EXPECT_FALSE(blocked[bad - first]) << packet_isa_name(isa) << ", block " << block;
+            for (int k = 0; k < count; ++k) {
+                if (k == bad || block % 5 == 4) continue;
+                ASSERT_TRUE(is_single_ray_hit(scene, rays[k], hits[k])) << packet_isa_name(isa);
+                ++total;
+                hit_count += hits[k].is_hit();
+            }
+            for (int k = 0; k < in_packet; ++k) {
+                if (first + k == bad || block % 5 == 4) continue;
+                ASSERT_EQ(blocked[k], occluded(scene, rays[first + k], 0, INFINITY)) << packet_isa_name(isa);
+            }
+        }
+    }
+    EXPECT_GT(hit_count, total / 2);
 }
 
 }  // namespace
