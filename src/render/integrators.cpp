@@ -887,9 +887,14 @@ void prepare_shadow_part(const Scene& scene, bool shading, const Ray* rays, cons
     HitLanes& lanes = part.lanes;
     lanes.count = 0;  // the caller reuses a part that had no hits
     for (int k = 0; k < count; ++k) {
-        shadows[k] = CameraShadows{};
+        // Only the flags: `surface` and `color` are read only where they say so, and writing
+        // every answer whole (80 bytes) took a share of a render with shadows.
+        CameraShadows& answers = shadows[k];
+        answers.known = 0;
+        answers.blocked = 0;
+        answers.surface_found = false;
+        answers.shaded = false;
         if (!hits[k].is_hit()) continue;
-        shadows[k].surface_found = true;
         const int j = lanes.count++;
         lanes.lane[j] = k;
         lanes.to_viewer.set(j, -rays[k].direction);
@@ -995,9 +1000,13 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         part.lanes.surface.normal = part.surface_normal;
         for (int j = 0; j < part.lanes.count; ++j) {
             CameraShadows& answers = part.shadows[part.lanes.lane[j]];
-            answers.surface = part.lanes.surface.at(j);
             answers.shaded = part.local[j];
-            if (part.local[j]) answers.color = part.lanes.color.at(j);
+            if (part.local[j]) {  // the colour is all the render loop takes
+                answers.color = part.lanes.color.at(j);
+            } else {  // for the radiance function, which would find the point again
+                answers.surface = part.lanes.surface.at(j);
+                answers.surface_found = true;
+            }
         }
     }
 }
