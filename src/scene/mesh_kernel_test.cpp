@@ -612,8 +612,9 @@ TEST(PacketIntersect, BlocksOfCameraPacketsGetTheirSingleRayHitsWhetherTheyShare
 
 // A ray whose direction holds a NaN is outside every query's contract (scenes give finite
 // directions), but it must not bring the kernels down: it misses, its any-hit query finds
-// nothing, and the other rays of its packet or block get their single-ray answers. Camera-like
-// blocks and packets, with a NaN in one lane's direction, in one component or in all three.
+// nothing, and the other rays of its packet or block get their single-ray answers. Camera,
+// shadow and ambient-occlusion packets (and camera blocks), with a NaN in one ray's direction
+// or in every ray's, in one component or in all three.
 TEST(PacketIntersect, ARayWithANanDirectionMissesAndLeavesTheOtherRaysAlone) {
     std::mt19937 rng(60);
     std::uniform_real_distribution<float> u01(0, 1);
@@ -625,16 +626,19 @@ TEST(PacketIntersect, ARayWithANanDirectionMissesAndLeavesTheOtherRaysAlone) {
     for (PacketIsa isa : packet_isas()) {
         const PacketTracer tracer(scene, isa);
         const int lanes = tracer.lanes();
-        for (int block = 0; block < 60; ++block) {
+        for (int block = 0; block < 120; ++block) {
             const int count = block % 2 ? kMaxSharedPackets * lanes : lanes;
             const Vec3f origin{4 + 16 * u01(rng), 4 + 16 * u01(rng), 4 + 20 * u01(rng)};
             const Vec3f centre{0.7f + 0.6f * u01(rng), 0.7f + 0.6f * u01(rng), -1};
             Ray rays[kMaxSharedPackets * kMaxPacketLanes];
-            // Camera rays (one origin), or shadow rays towards the sun (origins apart, one direction).
-            const bool camera = block % 4 < 2;
+            // Camera rays (one origin), shadow rays towards the sun (origins apart, one direction),
+            // or ambient-occlusion rays (one origin, every way).
             for (int k = 0; k < count; ++k) {
                 const Vec3f step{static_cast<float>(k % 8), static_cast<float>(k / 8), 0};
-                rays[k] = camera ? Ray{origin, centre + step * 1e-3f} : Ray{origin + step * 0.1f, centre};
+                const Vec3f any_way{u01(rng) - 0.5f, u01(rng) - 0.5f, u01(rng) - 0.5f};
+                rays[k] = block % 6 < 2   ? Ray{origin, centre + step * 1e-3f}
+                          : block % 6 < 4 ? Ray{origin + step * 0.1f, centre}
+                                          : Ray{Vec3f{origin.x, origin.y, 0.2f}, any_way};
             }
             const int bad = block % count;
             for (int k = 0; k < count; ++k) {
