@@ -700,7 +700,7 @@ TEST(BadInputTest, AnUnknownOutputExtensionIsAUsageError) {
     const RunResult run = run_guarded(std::string(kDir) + "valid.txt '" + dir + "/x.gif'");
     EXPECT_EQ(run.exit_code, 2);
     EXPECT_EQ(first_line(run.output), "raycast: usage error: unknown image format '.gif' for '" + dir +
-                                          "/x.gif': use .bmp, .ppm, .tga or .png");
+                                          "/x.gif': use .bmp, .ppm, .tga or .png, or give --format");
     EXPECT_TRUE(files_in(dir).empty());
 }
 

@@ -1,8 +1,9 @@
 // End-to-end tests of the raycast command line, run as a separate process: help and version, usage
 // errors (exit 2 and a message), the course's and MIT 6.837's forms, the image format chosen by the
-// output's extension, --stats, --quiet, thread-count independence, the `compare` tool, and the
-// promise that a failed run never leaves or damages an output file. The expectations come from
-// --help, README.md and docs/limits.md (exit 0 success, 1 input or output error, 2 usage error).
+// output's extension or by --format, --stats, --quiet, thread-count independence, the `compare`
+// tool, and the promise that a failed run never leaves or damages an output file. The expectations
+// come from --help, README.md and docs/limits.md (exit 0 success, 1 input or output error, 2 usage
+// error).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -163,6 +164,16 @@ TEST(CliTest, UsageErrorsExitTwoWithAMessageAndAHint) {
         {"s.txt o.ppm --quiet=yes", "--quiet takes no value, got 'yes'"},
         {"--bogus=3 s.txt o.ppm", "unknown option '--bogus'"},
         {"-input s.txt -size 8 8 -output o.ppm -weight 2", "-weight must be from 0 to 1, got 2"},
+        {"s.txt o --format jpg", "--format must be bmp, ppm, tga or png, got 'jpg'"},
+        {"s.txt o --format=.ppm", "--format must be bmp, ppm, tga or png, got '.ppm'"},
+        {"s.txt o --format ''", "--format must be bmp, ppm, tga or png, got ''"},
+        {"s.txt o --format", "--format needs a value"},
+        // MIT's form has no --format: -output's name gives the format, as MIT's program reads it.
+        {"-input s.txt -size 8 8 -output o --format ppm",
+         "--format is for raycast SCENE OUTPUT: with -input, -output FILE takes its format from its name (.bmp, "
+         ".ppm, .tga or .png)"},
+        // explain and view write no image.
+        {"explain s.txt 1 1 --format ppm", "unknown option '--format'"},
     };
     for (const auto& [arguments, message] : cases) {
         SCOPED_TRACE(arguments);
@@ -413,6 +424,9 @@ TEST(CliTest, PngOutputHoldsTheSamePixelsAsPpm) {
     const RunResult run = run_raycast("compare o.ppm o.png", dir);
     EXPECT_EQ(run.exit_code, 0) << run.output;
     EXPECT_NE(run.output.find("differing pixels: 0 of 768"), std::string::npos) << run.output;
+    // --format png writes the same file under any name.
+    ASSERT_EQ(run_raycast("s.txt image --format png -q", dir).exit_code, 0);
+    EXPECT_EQ(read_file(dir + "/image"), read_file(dir + "/o.png"));
 }
 #else
 TEST(CliTest, PngOutputWithoutLibpngIsAnOutputError) {
@@ -424,14 +438,35 @@ TEST(CliTest, PngOutputWithoutLibpngIsAnOutputError) {
         "o.png: error: PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
     EXPECT_FALSE(file_exists(dir + "/o.png"));
 }
+
+TEST(CliTest, FormatPngWithoutLibpngIsTheSameOutputError) {
+    const std::string dir = scene_dir("format_png");
+    const RunResult run = run_raycast("s.txt image --format png", dir);
+    EXPECT_EQ(run.exit_code, 1);
+    EXPECT_EQ(
+        first_line(run.output),
+        "image: error: PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj"}));
+    // The format given, not the name's: a .png name written as PPM needs no libpng.
+    ASSERT_EQ(run_raycast("s.txt o.png --format ppm -q", dir).exit_code, 0);
+    EXPECT_TRUE(parse_ppm(read_file(dir + "/o.png")).ok);
+}
 #endif
 
 TEST(CliTest, UnknownOrMissingExtensionIsAUsageErrorAndWritesNothing) {
     const std::string dir = scene_dir("bad_extension");
     const std::pair<const char*, const char*> cases[] = {
-        {"s.txt o.jpg", "unknown image format '.jpg' for 'o.jpg': use .bmp, .ppm, .tga or .png"},
-        {"s.txt image", "cannot tell the image format of 'image': name it .bmp, .ppm, .tga or .png"},
-        {"s.txt out.d/image", "cannot tell the image format of 'out.d/image': name it .bmp, .ppm, .tga or .png"},
+        {"s.txt o.jpg", "unknown image format '.jpg' for 'o.jpg': use .bmp, .ppm, .tga or .png, or give --format"},
+        {"s.txt image", "cannot tell the image format of 'image': name it .bmp, .ppm, .tga or .png, or give --format"},
+        {"s.txt out.d/image",
+         "cannot tell the image format of 'out.d/image': name it .bmp, .ppm, .tga or .png, or give --format"},
+        {"s.txt /dev/stdout",
+         "cannot tell the image format of '/dev/stdout': name it .bmp, .ppm, .tga or .png, or give --format"},
+        // --format names the image's format only: the other outputs, and MIT's -output, have none.
+        {"s.txt o --format ppm --depth d", "cannot tell the image format of 'd': name it .bmp, .ppm, .tga or .png"},
+        {"s.txt o.ppm --normals n.jpg", "unknown image format '.jpg' for 'n.jpg': use .bmp, .ppm, .tga or .png"},
+        {"-input s.txt -size 8 8 -output image",
+         "cannot tell the image format of 'image': name it .bmp, .ppm, .tga or .png"},
     };
     for (const auto& [arguments, message] : cases) {
         SCOPED_TRACE(arguments);
@@ -440,6 +475,52 @@ TEST(CliTest, UnknownOrMissingExtensionIsAUsageErrorAndWritesNothing) {
         EXPECT_EQ(first_line(run.output), std::string("raycast: usage error: ") + message);
         EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj"}));
     }
+}
+
+// --format names OUTPUT's format whatever its name says: none, or another image extension.
+TEST(CliTest, FormatWritesTheImageInTheFormatGivenWhateverItsName) {
+    const std::string dir = scene_dir("format");
+    for (const char* arguments :
+         {"s.txt o.ppm", "s.txt o.tga", "s.txt image --format ppm", "s.txt attached --format=ppm",
+          "s.txt upper --format PPM", "s.txt ppm.bmp --format ppm", "s.txt tga.ppm --format tga"}) {
+        const RunResult run = run_raycast(std::string(arguments) + " -q", dir);
+        ASSERT_EQ(run.exit_code, 0) << arguments << ": " << run.output;
+        EXPECT_EQ(run.output, "") << arguments;
+    }
+    const std::string ppm = read_file(dir + "/o.ppm");
+    ASSERT_TRUE(parse_ppm(ppm).ok);
+    EXPECT_EQ(read_file(dir + "/image").substr(0, 2), "P6");
+    for (const char* name : {"image", "attached", "upper", "ppm.bmp"}) EXPECT_EQ(read_file(dir + "/" + name), ppm) << name;
+    EXPECT_EQ(read_file(dir + "/tga.ppm"), read_file(dir + "/o.tga"));
+    // Only OUTPUT: --depth and --normals still follow their own names.
+    ASSERT_EQ(run_raycast("s.txt both --format ppm --normals n.bmp -q", dir).exit_code, 0);
+    EXPECT_EQ(read_file(dir + "/both"), ppm);
+    EXPECT_EQ(read_file(dir + "/n.bmp").substr(0, 2), "BM");
+}
+
+// A pipe is written into, in place, and its name has no extension: --format gives the format.
+// Here /dev/stdout is the pipe the test reads; stderr is left out of it.
+TEST(CliTest, FormatPpmWritesAnImageThroughAPipe) {
+    const std::string dir = scene_dir("format_pipe");
+    ASSERT_EQ(run_raycast("s.txt o.ppm -q", dir).exit_code, 0);
+    const RunResult run =
+        run_command("cd '" + dir + "' && '" + RAYCAST_EXECUTABLE + "' s.txt /dev/stdout --format ppm -q");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    EXPECT_EQ(run.output.substr(0, 2), "P6");
+    EXPECT_EQ(run.output, read_file(dir + "/o.ppm"));
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "o.ppm"}));
+}
+
+// --format ppm writes a --crop piece as a .ppm name does: with its window, for merge.
+TEST(CliTest, FormatPpmWritesACropPieceThatMerges) {
+    const std::string dir = scene_dir("format_crop");
+    ASSERT_EQ(run_raycast("s.txt whole.ppm -q", dir).exit_code, 0);
+    ASSERT_EQ(run_raycast("s.txt top --crop 0,0,32,10 --format ppm -q", dir).exit_code, 0);
+    ASSERT_EQ(run_raycast("s.txt bottom.bmp --crop 0,10,32,24 --format ppm -q", dir).exit_code, 0);
+    EXPECT_EQ(read_file(dir + "/top").rfind("P6\n# raycast-crop 0,0,32,10 of 32x24\n", 0), 0u);
+    const RunResult merge = run_raycast("merge -o merged.ppm top bottom.bmp -q", dir);
+    ASSERT_EQ(merge.exit_code, 0) << merge.output;
+    EXPECT_EQ(read_file(dir + "/merged.ppm"), read_file(dir + "/whole.ppm"));
 }
 
 // ---- --stats, --quiet, threads ---------------------------------------------------------------

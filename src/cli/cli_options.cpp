@@ -21,7 +21,7 @@ std::string usage_text() {
        raycast merge -o OUTPUT PIECE...
 
 Renders SCENE (the course's scene format, or MIT 6.837's) into OUTPUT. The image format follows
-OUTPUT's extension: .bmp, .ppm, .tga, or .png (when built with libpng).
+OUTPUT's extension: .bmp, .ppm, .tga, or .png (when built with libpng); --format overrides it.
 
 Options:
   -h, --help                 show this help and exit
@@ -44,6 +44,10 @@ Options:
       --ao-samples N         ambient occlusion: rays per hit (default 16)
       --ao-distance D        ambient occlusion: how far they look (default: a tenth of the
                              diagonal of the scene's bounding box)
+      --format FMT           write OUTPUT as FMT (bmp, ppm, tga or png) whatever its name says,
+                             even another image extension: for a pipe or a device, as in
+                             raycast SCENE /dev/stdout --format ppm | display -
+                             (--depth and --normals files still follow their own names)
       --depth FILE           also write a depth image (grey: near white, far black)
       --normals FILE         also write a normals image (|n| per channel)
       --depth-range NEAR,FAR distances mapped to white and black in depth images
@@ -60,7 +64,8 @@ Options:
       --aperture D           thin-lens camera with a lens D wide (depth of field)
       --focus-distance F     distance that stays sharp (default: what the image centre sees)
       --crop X0,Y0,X1,Y1     render only columns X0..X1-1 and rows Y0..Y1-1 (row 0 at the top);
-                             a .ppm output records the window, for 'raycast merge'
+                             a PPM output (.ppm, or --format ppm) records the window, for
+                             'raycast merge'
       --shade-back           light back faces as front faces (MIT: -shade_back)
       --specular-fix         MIT: multiply the specular term by N.L (MIT: -specular_fix)
       --tile N               tile size in pixels (default 64, down to 16 for small images:
@@ -87,7 +92,7 @@ With --max-diff L and/or --max-fraction F it grades: exit 1, with one line sayin
 than a fraction F (default 0) of the pixels differ by more than L levels (default 0) in some
 channel. The course's tolerance: raycast compare ref.bmp out.bmp --max-diff 1 --max-fraction 0.001
 --mask MASK ignores the pixels that are black in MASK, an image of the same size.
-merge assembles .ppm pieces written with --crop into the full image, byte-identical to one render.
+merge assembles the PPM pieces written with --crop into the full image, byte-identical to one render.
 
 Exit status: 0 success, 1 input or output error, 2 usage error.
 )";
@@ -250,6 +255,9 @@ void check_render_options(CliOptions& options, const std::vector<std::string>& p
         if (options.scene_path.empty()) usage_error("-input SCENE is missing");
         if (options.output_path.empty() && options.depth_path.empty() && options.normals_path.empty())
             usage_error("nothing to write: give -output FILE (or -depth NEAR FAR FILE, or -normals FILE)");
+        if (options.output_format)
+            usage_error("--format is for raycast SCENE OUTPUT: with -input, -output FILE takes its format from its "
+                        "name (.bmp, .ppm, .tga or .png)");
     } else {
         if (positional.size() < 2)
             usage_error(positional.empty() ? "missing SCENE and OUTPUT" : "missing OUTPUT (the image to write)");
@@ -474,6 +482,10 @@ CliOptions parse_command_line(int argc, const char* const* argv) {
             options.render.ao_distance = parse_number(value, arg);
             if (!(options.render.ao_distance > 0) || !std::isfinite(options.render.ao_distance))
                 usage_error("--ao-distance must be a positive number, got " + value);
+        } else if (!explain && !view && arg == "--format") {
+            const std::string name = args.value_for(arg);
+            options.output_format = image_format_named(name);
+            if (!options.output_format) usage_error("--format must be bmp, ppm, tga or png, got '" + name + "'");
         } else if (arg == "--depth") {
             options.depth_path = args.file_name_for(arg);
         } else if (arg == "--normals") {

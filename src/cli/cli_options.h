@@ -4,11 +4,13 @@
 // Arguments are read into a CliOptions and then checked as a whole.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "image/compare_images.h"
+#include "image/image_io.h"
 #include "render/render.h"
 #include "scene/conventions.h"
 
@@ -29,6 +31,9 @@ struct CliOptions {
     std::string output_path;   ///< the shaded image; may be empty in MIT form when only -depth/-normals are asked
     std::string depth_path;    ///< extra depth image (-depth NEAR FAR FILE, or --depth FILE)
     std::string normals_path;  ///< extra normals image (-normals FILE, or --normals FILE)
+    /// --format: output_path's format whatever its name says; nullopt: its extension's. The
+    /// course's form only; depth_path and normals_path always follow their names.
+    std::optional<ImageFormat> output_format;
     bool mit_form = false;
     int width = 0, height = 0;  ///< 0: the camera's own size
     int threads = 0;            ///< 0: every hardware thread

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <new>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,19 +52,25 @@ bool same_file(const std::string& a, const std::string& b) {
 
 // Checks an output path before any work is done, so a long render never ends in "cannot write".
 // The output must not be one of `inputs`; `input_what` names them in the message, e.g. "the scene file".
-void check_output_path(const std::string& path, const std::vector<std::string>& inputs, const char* input_what) {
+// Its format is `format` (--format's) or, when that is nullopt, its name's; `format_option` says
+// whether --format could have named one, as it can for the course's OUTPUT, and the message then says so.
+void check_output_path(const std::string& path, const std::vector<std::string>& inputs, const char* input_what,
+                       std::optional<ImageFormat> format = std::nullopt, bool format_option = false) {
     if (path.empty()) return;
-    if (!image_format_for_path(path)) {
+    if (!format) format = image_format_for_path(path);
+    if (!format) {
+        const std::string hint = format_option ? ", or give --format" : "";
         const size_t dot = path.find_last_of('.');
         const size_t slash = path.find_last_of('/');
         if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
-            throw UsageError("cannot tell the image format of '" + path + "': name it .bmp, .ppm, .tga or .png");
-        throw UsageError("unknown image format '" + path.substr(dot) + "' for '" + path + "': use .bmp, .ppm, .tga or .png");
+            throw UsageError("cannot tell the image format of '" + path + "': name it .bmp, .ppm, .tga or .png" + hint);
+        throw UsageError("unknown image format '" + path.substr(dot) + "' for '" + path +
+                         "': use .bmp, .ppm, .tga or .png" + hint);
     }
     for (const std::string& input : inputs)
         if (path == input || same_file(path, input))
             throw UsageError("the output '" + path + "' is " + input_what + " itself: choose another name");
-    if (*image_format_for_path(path) == ImageFormat::Png && !png_supported())
+    if (*format == ImageFormat::Png && !png_supported())
         throw InputError(path, "PNG images need libpng: rebuild raycast with libpng-dev installed, or use .bmp, .ppm or .tga");
     struct stat existing;
     const bool found = ::stat(path.c_str(), &existing) == 0;
@@ -238,7 +245,9 @@ LoadedScene load_and_build(const CliOptions& options, int threads) {
 
 int run_render(const CliOptions& options) {
     const int threads = options.threads > 0 ? options.threads : hardware_threads();
-    for (const std::string& path : {options.output_path, options.depth_path, options.normals_path})
+    check_output_path(options.output_path, {options.scene_path}, "the scene file", options.output_format,
+                      !options.mit_form);
+    for (const std::string& path : {options.depth_path, options.normals_path})
         check_output_path(path, {options.scene_path}, "the scene file");
     check_outputs_differ({{"the image", options.output_path},
                           {options.mit_form ? "-depth" : "--depth", options.depth_path},
@@ -282,17 +291,25 @@ int run_render(const CliOptions& options) {
     RenderStats stats;
     const FrameImages images = render_frame_rgb8(scene, render, request, &stats);
     // Written together: a failure (a full disk) before the last rename leaves every output as it was.
+    // --format names the image's format; each file's name, checked before the render, gives the rest.
+    struct Output {
+        const std::string& path;
+        const ImageRgb8& image;
+        std::optional<ImageFormat> format;
+    };
     std::vector<std::pair<std::string, std::vector<uint8_t>>> files;
-    for (const auto& [path, image] : {std::pair<const std::string&, const ImageRgb8&>{options.output_path, images.color},
-                                      {options.depth_path, images.depth},
-                                      {options.normals_path, images.normals}}) {
-        if (path.empty()) continue;
-        if (render.has_crop && image_format_for_path(path) == ImageFormat::Ppm) {
+    for (const Output& output : {Output{options.output_path, images.color, options.output_format},
+                                 Output{options.depth_path, images.depth, std::nullopt},
+                                 Output{options.normals_path, images.normals, std::nullopt}}) {
+        if (output.path.empty()) continue;
+        const ImageFormat format = output.format ? *output.format : *image_format_for_path(output.path);
+        if (render.has_crop && format == ImageFormat::Ppm) {
             const CropWindow& c = render.crop;
-            files.emplace_back(path, encode_crop_piece(image, CropPlacement{c.x0, c.y0, c.x1, c.y1, scene.camera.width,
-                                                                            scene.camera.height}));
+            files.emplace_back(output.path, encode_crop_piece(output.image, CropPlacement{c.x0, c.y0, c.x1, c.y1,
+                                                                                          scene.camera.width,
+                                                                                          scene.camera.height}));
         } else {
-            files.emplace_back(path, encode_image_for_path(path, image));
+            files.emplace_back(output.path, encode_image(output.image, format));
         }
     }
     progress.finish();  // the bar's line cleared before any warning

@@ -657,13 +657,19 @@ std::vector<uint8_t> read_file_impl(const std::string& path) {
 }  // namespace
 
 std::optional<ImageFormat> image_format_for_path(const std::string& path) {
-    std::string extension = path_extension(path);
-    for (char& c : extension)
+    const std::string extension = path_extension(path);
+    if (extension.empty()) return std::nullopt;
+    return image_format_named(extension.substr(1));
+}
+
+std::optional<ImageFormat> image_format_named(const std::string& name) {
+    std::string lower = name;
+    for (char& c : lower)
         if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
-    if (extension == ".bmp") return ImageFormat::Bmp;
-    if (extension == ".ppm") return ImageFormat::Ppm;
-    if (extension == ".tga") return ImageFormat::Tga;
-    if (extension == ".png") return ImageFormat::Png;
+    if (lower == "bmp") return ImageFormat::Bmp;
+    if (lower == "ppm") return ImageFormat::Ppm;
+    if (lower == "tga") return ImageFormat::Tga;
+    if (lower == "png") return ImageFormat::Png;
     return std::nullopt;
 }
 

@@ -18,6 +18,9 @@ enum class ImageFormat { Bmp, Ppm, Tga, Png };
 /// The format named by a path's extension, case-insensitive (.bmp .ppm .tga .png); nullopt otherwise.
 std::optional<ImageFormat> image_format_for_path(const std::string& path);
 
+/// The format a name gives, case-insensitive (bmp ppm tga png, as `--format` takes it); nullopt otherwise.
+std::optional<ImageFormat> image_format_named(const std::string& name);
+
 /// Whether this build reads and writes PNG (libpng found at build time).
 bool png_supported();
 

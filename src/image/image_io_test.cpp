@@ -282,6 +282,17 @@ TEST(ImageFormatForPath, OtherNamesHaveNone) {
     EXPECT_EQ(image_format_for_path(""), std::nullopt);
 }
 
+TEST(ImageFormatNamed, TheFourNamesInAnyCaseAndNothingElse) {
+    EXPECT_EQ(image_format_named("bmp"), ImageFormat::Bmp);
+    EXPECT_EQ(image_format_named("PPM"), ImageFormat::Ppm);
+    EXPECT_EQ(image_format_named("Tga"), ImageFormat::Tga);
+    EXPECT_EQ(image_format_named("png"), ImageFormat::Png);
+    EXPECT_EQ(image_format_named(".ppm"), std::nullopt);  // a name, not an extension
+    EXPECT_EQ(image_format_named("jpg"), std::nullopt);
+    EXPECT_EQ(image_format_named("ppm "), std::nullopt);
+    EXPECT_EQ(image_format_named(""), std::nullopt);
+}
+
 // ---- encoding, byte by byte ----
 
 TEST(BmpEncode, Header200x200IsTheCourses) {
