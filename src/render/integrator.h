@@ -48,13 +48,14 @@ constexpr size_t kMaxCameraShadowLights = 64;
 
 /// The answers to a camera hit's opaque shadow rays, found before shading by tracing them in a
 /// packet with those of the neighbouring pixels (trace_camera_shadows): bit i of `known` says light
-/// i's answer is here (it is not where shading needs no shadow ray), bit i of `blocked` what it is. Only the camera ray's own hit uses them, with
-/// the surface point they were traced from (surface_at of the hit, so shading need not find it
-/// again).
+/// i's answer is here (it is not where shading needs no shadow ray), bit i of `blocked` what it
+/// is. Only the camera ray's own hit uses them: shaded there already (`shaded`, `color`), or by the
+/// radiance function, with the surface point the rays were traced from (surface_at of the hit, so
+/// shading need not find it again). `surface` and `color` are set only where their flags say.
 struct CameraShadows {
     uint64_t known = 0;
     uint64_t blocked = 0;
-    bool surface_found = false;  ///< whether `surface` holds the hit's point (it was a hit)
+    bool surface_found = false;  ///< whether `surface` holds the hit's point (a hit not `shaded`)
     SurfacePoint surface;
     /// Whether the hit's colour is local shading alone (see shade_camera_hits_locally), found
     /// with these shadow rays: `color`.

@@ -130,8 +130,10 @@ const SkippableBackFaces* skippable_for(const Integrator& integrator, size_t lig
 // camera's centre, and the shadow ray leaves the hit's plane on the camera's side, `offset` off
 // it, and ends clear of the boxes after `distance`. local_shading and trace_camera_shadows ask it
 // with the same numbers.
-[[gnu::always_inline]] inline bool camera_shadow_may_skip(const Integrator& integrator, const SkippableBackFaces& skippable, const Ray& camera_ray,
-                            Vec3f geometric_normal, Vec3f to_light, float offset, float distance) {
+[[gnu::always_inline]] inline bool camera_shadow_may_skip(const Integrator& integrator,
+                                                          const SkippableBackFaces& skippable, const Ray& camera_ray,
+                                                          Vec3f geometric_normal, Vec3f to_light, float offset,
+                                                          float distance) {
     return camera_ray.origin == integrator.camera_center &&
            origin_on_camera_side(geometric_normal, to_light, -camera_ray.direction) &&
            ends_clear_of_boxes(skippable, offset, distance);

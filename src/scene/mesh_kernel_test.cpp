@@ -643,10 +643,10 @@ TEST(PacketIntersect, ARayWithANanDirectionMissesAndLeavesTheOtherRaysAlone) {
             const int bad = block % count;
             for (int k = 0; k < count; ++k) {
                 if (k != bad && block % 5 != 4) continue;  // one ray, or (every fifth block) all of them
-                if (block % 3 == 0) {
+                if (block % 4 == 3) {
                     rays[k].direction = {nan, nan, nan};
                 } else {
-                    rays[k].direction[block % 3] = nan;
+                    rays[k].direction[block % 4] = nan;  // x, y or z
                 }
             }
             Hit hits[kMaxSharedPackets * kMaxPacketLanes];
