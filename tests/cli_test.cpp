@@ -511,6 +511,25 @@ TEST(CliTest, FormatPpmWritesAnImageThroughAPipe) {
     EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "o.ppm"}));
 }
 
+// "-" is standard output, as for most tools; with the image there, --stats goes to standard
+// error, so that the pipe holds the image alone.
+TEST(CliTest, ADashIsStandardOutputAndStatsThenGoToStandardError) {
+    const std::string dir = scene_dir("format_dash");
+    ASSERT_EQ(run_raycast("s.txt o.ppm -q", dir).exit_code, 0);
+    const std::string command = "cd '" + dir + "' && '" + RAYCAST_EXECUTABLE + "' s.txt - --format ppm --stats -q";
+    const RunResult image = run_command(command + " 2>/dev/null");
+    ASSERT_EQ(image.exit_code, 0) << image.output;
+    EXPECT_EQ(image.output, read_file(dir + "/o.ppm"));
+    const RunResult stats = run_command(command + " 2>&1 >/dev/null");
+    ASSERT_EQ(stats.exit_code, 0) << stats.output;
+    EXPECT_EQ(stats.output.rfind("raycast-stats ", 0), 0u) << stats.output;
+    EXPECT_EQ(files_in(dir), (std::set<std::string>{"s.txt", "quad.obj", "o.ppm"}));  // no file named "-"
+    const RunResult no_format = run_raycast("s.txt -", dir);
+    EXPECT_EQ(no_format.exit_code, 2);
+    EXPECT_NE(no_format.output.find("cannot tell the image format of '/dev/stdout'"), std::string::npos)
+        << no_format.output;
+}
+
 // --format ppm writes a --crop piece as a .ppm name does: with its window, for merge.
 TEST(CliTest, FormatPpmWritesACropPieceThatMerges) {
     const std::string dir = scene_dir("format_crop");

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "base/command_line.h"
 #include "base/error.h"
 #include "base/limits.h"
 #include "base/parse_number.h"
@@ -46,7 +47,8 @@ Options:
                              diagonal of the scene's bounding box)
       --format FMT           write OUTPUT as FMT (bmp, ppm, tga or png) whatever its name says,
                              even another image extension: for a pipe or a device, as in
-                             raycast SCENE /dev/stdout --format ppm | display -
+                             raycast SCENE - --format ppm | display -  ('-' is standard
+                             output; --stats then goes to standard error)
                              (--depth and --normals files still follow their own names)
       --depth FILE           also write a depth image (grey: near white, far black)
       --normals FILE         also write a normals image (|n| per channel)
@@ -190,12 +192,13 @@ public:
     std::string next() {
         check_attached_value_taken();
         std::string arg = argv_[index_++];
-        const size_t equals = arg.find('=');
-        if (arg.rfind("--", 0) == 0 && equals != std::string::npos && equals > 2) {
-            attached_value_ = arg.substr(equals + 1);
-            arg.resize(equals);
-            attached_to_ = arg;
-        } else if (arg.size() > 2 && arg.rfind("-j", 0) == 0) {
+        std::string name, value;
+        if (split_long_option(arg, name, value)) {
+            attached_value_ = value;
+            attached_to_ = name;
+            return name;
+        }
+        if (arg.size() > 2 && arg.rfind("-j", 0) == 0) {
             attached_value_ = arg.substr(2);
             arg.resize(2);
             attached_to_ = arg;
@@ -263,7 +266,8 @@ void check_render_options(CliOptions& options, const std::vector<std::string>& p
             usage_error(positional.empty() ? "missing SCENE and OUTPUT" : "missing OUTPUT (the image to write)");
         if (positional.size() > 2) usage_error("unexpected argument '" + positional[2] + "'");
         options.scene_path = positional[0];
-        options.output_path = positional[1];
+        // "-" is standard output, as for most tools (its format must come from --format).
+        options.output_path = positional[1] == "-" ? "/dev/stdout" : positional[1];
         // An unset shell variable ("$OUT") gives an empty argument: the render would write nothing.
         if (options.scene_path.empty()) usage_error("SCENE is an empty name");
         if (options.output_path.empty()) usage_error("OUTPUT is an empty name: name the image to write");

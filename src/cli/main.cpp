@@ -322,7 +322,10 @@ int run_render(const CliOptions& options) {
                      options.mit_form ? "-bounces" : "--bounces", options.mit_form ? "-weight" : "--weight");
     if (options.stats) {
         const double mrays = stats.milliseconds > 0 ? static_cast<double>(stats.rays) / (stats.milliseconds * 1000) : 0;
-        std::printf("raycast-stats load_ms=%.3f build_ms=%.3f render_ms=%.3f rays=%llu mrays_per_s=%.3f "
+        // Not into the image: with the image on standard output (/dev/stdout, "-", or a name for
+        // the same file) the line goes to standard error.
+        FILE* stats_stream = same_file(options.output_path, "/dev/stdout") ? stderr : stdout;
+        std::fprintf(stats_stream, "raycast-stats load_ms=%.3f build_ms=%.3f render_ms=%.3f rays=%llu mrays_per_s=%.3f "
                     "triangles=%zu threads=%d hit_fraction=%.4f traversal=%s primary_rays=%llu window_missed_rays=%llu "
                     "shadow_rays=%llu "
                     "secondary_rays=%llu occlusion_rays=%llu rev_surfaces=%zu rev_surface_tests=%llu "
