@@ -658,46 +658,60 @@ struct TriangleLanes {
     VF t, u1, u2, det;
 };
 
-// The lanes (of `live`) whose rays pass inside triangle `lane` of a group whose vertices are
-// sheared: test_triangle_packet's edge test alone, without its branches.
-inline VM inside_triangle_packet(const unsigned char* group, uint32_t lane, const ShearedVertices& sv, VM live) {
+// Triangle `lane` of a group whose vertices are sheared: its corners' places among the group's
+// vertices, and its edge functions in every lane (intersect_triangle's, u0 that of the edge
+// opposite the first corner).
+struct TriangleEdges {
+    uint32_t i0, i1, i2;
+    VF u0, u1, u2;
+};
+
+inline TriangleEdges triangle_edges(const unsigned char* group, uint32_t lane, const ShearedVertices& sv) {
     const uint32_t k = group[0];
     const unsigned char* corners = group + group_corners_offset();
-    const uint32_t i0 = corners[lane], i1 = corners[k + lane], i2 = corners[2 * k + lane];
-    const VF ax = sv.x[i0], ay = sv.y[i0];
-    const VF bx = sv.x[i1], by = sv.y[i1];
-    const VF cx = sv.x[i2], cy = sv.y[i2];
-    const VF u0 = cx * by - cy * bx, u1 = ax * cy - ay * cx, u2 = bx * ay - by * ax;
+    TriangleEdges e;
+    e.i0 = corners[lane];
+    e.i1 = corners[k + lane];
+    e.i2 = corners[2 * k + lane];
+    const VF ax = sv.x[e.i0], ay = sv.y[e.i0];
+    const VF bx = sv.x[e.i1], by = sv.y[e.i1];
+    const VF cx = sv.x[e.i2], cy = sv.y[e.i2];
+    e.u0 = cx * by - cy * bx;
+    e.u1 = ax * cy - ay * cx;
+    e.u2 = bx * ay - by * ax;
+    return e;
+}
+
+// The lanes (of `live`) whose rays pass inside the triangle. intersect_triangle misses where some
+// edge function is below 0 and some above: here, where the least is below and the greatest above
+// (four operations fewer than six comparisons; 1.03x on 1k-triangle packet renders, level at 100k
+// and 1M). Only a lane with a NaN edge function can pass one form and fail the other, and such a
+// lane never hits: its det is NaN, so is its t, and NaN > t_min is false.
+inline VM inside_edges(const TriangleEdges& e, VM live) {
     const VF zero = splat(0.0f);
-    const VF least = vmin(vmin(u0, u1), u2), greatest = vmax(vmax(u0, u1), u2);
+    const VF least = vmin(vmin(e.u0, e.u1), e.u2), greatest = vmax(vmax(e.u0, e.u1), e.u2);
     return andnot(live, (least < zero) & (greatest > zero));
+}
+
+// The edge test alone, without test_triangle_packet's branches: a leaf makes it for each of its
+// triangles first (intersect_leaf_packet).
+inline VM inside_triangle_packet(const unsigned char* group, uint32_t lane, const ShearedVertices& sv, VM live) {
+    return inside_edges(triangle_edges(group, lane, sv), live);
 }
 
 inline TriangleLanes test_triangle_packet(const unsigned char* group, uint32_t lane, const ShearedVertices& sv,
                                           VM live, VF t_min) {
-    const uint32_t k = group[0];
-    const unsigned char* corners = group + group_corners_offset();
-    const uint32_t i0 = corners[lane], i1 = corners[k + lane], i2 = corners[2 * k + lane];
-    const VF ax = sv.x[i0], ay = sv.y[i0], az = sv.z[i0];
-    const VF bx = sv.x[i1], by = sv.y[i1], bz = sv.z[i1];
-    const VF cx = sv.x[i2], cy = sv.y[i2], cz = sv.z[i2];
+    const TriangleEdges e = triangle_edges(group, lane, sv);
     TriangleLanes h;
-    const VF u0 = cx * by - cy * bx;
-    h.u1 = ax * cy - ay * cx;
-    h.u2 = bx * ay - by * ax;
-    const VF zero = splat(0.0f);
-    // intersect_triangle misses where some edge function is below 0 and some above: here, where
-    // the least is below and the greatest above (four operations fewer than six comparisons; 1.03x
-    // on 1k-triangle packet renders, level at 100k and 1M). Only a lane with a NaN edge function
-    // can pass one form and fail the other, and such a lane never hits: its det is NaN, so is its
-    // t, and NaN > t_min is false.
-    const VF least = vmin(vmin(u0, h.u1), h.u2), greatest = vmax(vmax(u0, h.u1), h.u2);
-    h.hit = andnot(live, (least < zero) & (greatest > zero));
+    h.u1 = e.u1;
+    h.u2 = e.u2;
+    h.hit = inside_edges(e, live);
     if (!any(h.hit)) return h;
-    h.det = u0 + h.u1 + h.u2;
+    const VF zero = splat(0.0f);
+    h.det = e.u0 + e.u1 + e.u2;
     h.hit = h.hit & (h.det != zero);
     if (!any(h.hit)) return h;
-    h.t = (u0 * az + h.u1 * bz + h.u2 * cz) / h.det;
+    h.t = (e.u0 * sv.z[e.i0] + e.u1 * sv.z[e.i1] + e.u2 * sv.z[e.i2]) / h.det;
     h.hit = h.hit & (h.t > t_min);
     return h;
 }
