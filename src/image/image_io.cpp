@@ -281,7 +281,9 @@ ImageRgb8 decode_ppm(const std::vector<uint8_t>& bytes, const std::string& name)
     auto to_8_bits = [max](uint32_t value) { return static_cast<uint8_t>((value * 255 + max / 2) / max); };
 
     // Samples arrive top row first; sample i belongs to row y = h - 1 - i / (3w) of our bottom-up image.
-    std::vector<uint8_t> samples(sample_count);
+    // Made no larger than the file can fill: a header of a few bytes may claim 64M pixels (the
+    // image fuzzer's inputs did, allocating 192 MB each and running at a hundredth of its speed).
+    std::vector<uint8_t> samples;
     if (binary) {
         // Exactly one whitespace byte separates the header from the binary samples.
         size_t pos = parser.position();
@@ -292,6 +294,7 @@ ImageRgb8 decode_ppm(const std::vector<uint8_t>& bytes, const std::string& name)
         const size_t need = sample_count * bytes_per_sample;
         const size_t have = bytes_after(bytes, pos);
         if (have < need) throw_truncated_pixels(name, "PPM", need, have);
+        samples.resize(sample_count);
         const uint8_t* src = bytes.data() + pos;
         for (size_t i = 0; i < sample_count; ++i) {
             // 16-bit samples are big-endian.
@@ -300,6 +303,8 @@ ImageRgb8 decode_ppm(const std::vector<uint8_t>& bytes, const std::string& name)
             samples[i] = to_8_bits(value);
         }
     } else {
+        // Every value but the last takes a digit and a separator at least.
+        samples.reserve(std::min(sample_count, bytes_after(bytes, parser.position()) / 2 + 1));
         for (size_t i = 0; i < sample_count; ++i) {
             parser.skip_space();
             if (parser.at_end())
@@ -309,7 +314,7 @@ ImageRgb8 decode_ppm(const std::vector<uint8_t>& bytes, const std::string& name)
             const std::optional<int64_t> value = parser.number();
             if (!value) throw InputError(name, "bad PPM file: a sample value is not a number");
             if (*value > maxval) throw_ppm_sample_too_big(name, *value, maxval);
-            samples[i] = to_8_bits(static_cast<uint32_t>(*value));
+            samples.push_back(to_8_bits(static_cast<uint32_t>(*value)));
         }
     }
 
@@ -531,6 +536,15 @@ ImageRgb8 decode_png(const std::vector<uint8_t>& bytes, const std::string& name)
     png_uint_32 width = 0, height = 0;
     if (!png_read_header(structs.png, structs.info, &width, &height)) throw fail();
     check_image_size(name, width, height);
+    // Deflate packs at most 1032 bytes into one, so the file must be at least that fraction of
+    // the rows it promises (a filter byte and the samples each, fewest when not interlaced). A
+    // header of a few bytes may promise 64M pixels: found so, it is refused before the image is
+    // made (the image fuzzer's inputs allocated 192 MB each otherwise).
+    const uint64_t bits_per_pixel = uint64_t{png_get_bit_depth(structs.png, structs.info)} *
+                                    png_get_channels(structs.png, structs.info);
+    const uint64_t least_data = uint64_t{height} * (1 + (uint64_t{width} * bits_per_pixel + 7) / 8);
+    if (least_data > 1032 * uint64_t{bytes.size()})
+        throw InputError(name, "truncated PNG file: it ends before the image is complete");
     size_t row_bytes = 0;
     if (!png_set_rgb8_output(structs.png, structs.info, &row_bytes)) throw fail();
     if (row_bytes != 3 * size_t{width})

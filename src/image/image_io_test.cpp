@@ -183,6 +183,16 @@ const std::vector<uint8_t> kPngTooWide = {
     0xe5, 0x27, 0xde, 0xfc, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82,
 };
 
+// 68 bytes whose header promises an 8000x8000 RGB image, with 16 bytes of it deflated: deflate
+// packs at most 1032 bytes into one, so no file this small can hold the image.
+const std::vector<uint8_t> kPngPromisesTooMuch = {
+    0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44,
+    0x52, 0x00, 0x00, 0x1f, 0x40, 0x00, 0x00, 0x1f, 0x40, 0x08, 0x02, 0x00, 0x00, 0x00, 0x89,
+    0x93, 0x3a, 0xa3, 0x00, 0x00, 0x00, 0x0b, 0x49, 0x44, 0x41, 0x54, 0x78, 0x9c, 0x63, 0x60,
+    0x40, 0x05, 0x00, 0x00, 0x10, 0x00, 0x01, 0x39, 0xbd, 0x8f, 0x65, 0x00, 0x00, 0x00, 0x00,
+    0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82,
+};
+
 // A fresh directory per test, removed afterwards.
 class ImageFileTest : public ::testing::Test {
 protected:
@@ -725,6 +735,19 @@ TEST(PngDecode, Errors) {
     EXPECT_EQ(decode_error(bad_crc, ImageFormat::Png), "bad PNG file: IHDR: CRC error");
     EXPECT_EQ(decode_error(kPngTooWide, ImageFormat::Png),
               "image too large: 16385x1 is more than raycast's limit of 16384 a side and 67108864 pixels");
+    // Refused from its size, before 192 MB of image are made for it.
+    EXPECT_EQ(decode_error(kPngPromisesTooMuch, ImageFormat::Png),
+              "truncated PNG file: it ends before the image is complete");
+}
+
+// The bound above holds for the most compressible image there is: one colour, which deflate packs
+// nearly 1032 to 1. raycast's own PNG of a black 2048x2048 image reads back.
+TEST(PngDecode, ABigImageOfOneColourIsNotTakenForATruncatedOne) {
+    if (!png_supported()) GTEST_SKIP() << "built without libpng";
+    const ImageRgb8 black(2048, 2048);
+    const std::vector<uint8_t> png = encode_image(black, ImageFormat::Png);
+    const ImageRgb8 image = decode_image(png, ImageFormat::Png, "black.png");
+    EXPECT_EQ(image.rgb, black.rgb) << png.size() << " bytes";
 }
 
 TEST_F(ImageFileTest, PngWithoutLibpng) {
