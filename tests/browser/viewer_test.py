@@ -78,7 +78,9 @@ def check(condition, message):
         raise Failure(message)
 
 
-def wait_until(what, condition, timeout=30.0):
+# 90 s: a wait ends as soon as its condition holds, and on a machine busy with other work (a
+# parallel build and test run on two cores) the 16-sample image once took longer than 30 s.
+def wait_until(what, condition, timeout=90.0):
     start = time.time()
     while True:
         value = condition()
