@@ -781,10 +781,6 @@ void add_light_share(SpecularModel model, HitLanes& hits, const LaneVectors& arr
     add_light_lanes(model, hits, arriving, n_dot_l, power, lit);
 }
 
-}  // namespace
-
-namespace {
-
 // The bits set in x. __builtin_popcountll is a call into libgcc on the base instruction set (no
 // POPCNT), 1% of a render with shadows at 1k triangles; these few operations are not.
 uint64_t count_bits(uint64_t x) {

@@ -693,10 +693,14 @@ inline VM inside_edges(const TriangleEdges& e, VM live) {
     return andnot(live, (least < zero) & (greatest > zero));
 }
 
-// The edge test alone, without test_triangle_packet's branches: a leaf makes it for each of its
-// triangles first (intersect_leaf_packet).
-inline VM inside_triangle_packet(const unsigned char* group, uint32_t lane, const ShearedVertices& sv, VM live) {
-    return inside_edges(triangle_edges(group, lane, sv), live);
+// The group's triangles (a bit each) that some ray of `live` passes inside: test_triangle_packet's
+// edge test alone, for every triangle, with no branch between them. A leaf finds these first and
+// makes the whole test for them only (intersect_leaf_packet, occluded_mesh_packet).
+inline unsigned triangles_inside(const unsigned char* group, const ShearedVertices& sv, VM live) {
+    unsigned inside = 0;
+    for (uint32_t lane = 0; lane < group[0]; ++lane)
+        inside |= static_cast<unsigned>(any(inside_edges(triangle_edges(group, lane, sv), live))) << lane;
+    return inside;
 }
 
 inline TriangleLanes test_triangle_packet(const unsigned char* group, uint32_t lane, const ShearedVertices& sv,
@@ -738,12 +742,8 @@ inline void intersect_leaf_packet(PacketState& s, const PacketRays& r, const Wat
     for (uint32_t block = first_block;;) {
         const unsigned char* group = mesh.groups[block].bytes;
         shear_vertices(group, w, sheared);
-        // The edge tests of every triangle first, with no branch between them, then the whole test
-        // for the triangles some ray passes inside (rarely more than one or two).
-        unsigned inside = 0;
-        for (uint32_t lane = 0; lane < group[0]; ++lane)
-            inside |= static_cast<unsigned>(any(inside_triangle_packet(group, lane, sheared, r.live))) << lane;
-        for (; inside; inside &= inside - 1) {
+        // The whole test only for the triangles some ray passes inside (rarely more than one or two).
+        for (unsigned inside = triangles_inside(group, sheared, r.live); inside; inside &= inside - 1) {
             const uint32_t lane = lowest_bit(inside);
             const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, s.t_min_v);
             // The triangle's id is read only for a hit: the last part of the group.
@@ -823,10 +823,7 @@ inline void occluded_mesh_packet(PacketRays& r, const MeshView& mesh, float t_mi
             for (uint32_t block = first_block; any(lanes);) {
                 const unsigned char* group = mesh.groups[block].bytes;
                 shear_vertices(group, sets[i], sheared);
-                unsigned inside = 0;  // as intersect_leaf_packet: the edge tests first
-                for (uint32_t lane = 0; lane < group[0]; ++lane)
-                    inside |= static_cast<unsigned>(any(inside_triangle_packet(group, lane, sheared, lanes))) << lane;
-                for (; inside; inside &= inside - 1) {
+                for (unsigned inside = triangles_inside(group, sheared, lanes); inside; inside &= inside - 1) {
                     const uint32_t lane = lowest_bit(inside);
                     const TriangleLanes h = test_triangle_packet(group, lane, sheared, lanes, t_min_v);
                     if (!any(h.hit)) continue;
