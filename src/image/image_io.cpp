@@ -396,6 +396,14 @@ ImageRgb8 decode_tga(const std::vector<uint8_t>& bytes, const std::string& name)
         if (have < need) throw_truncated_pixels(name, "TGA", need, have);
         pixels = bytes.data() + pos;
     } else {
+        // Every packet takes at least 1 + bytes_per_pixel bytes and gives at most 128 pixels, so a few
+        // bytes that promise millions of pixels are refused before the pixels' memory is made.
+        const size_t rle_bytes = bytes_after(bytes, pos);
+        const size_t most_pixels = rle_bytes / (1 + bytes_per_pixel) * 128;
+        if (pixel_count > most_pixels)
+            throw InputError(name, string_printf("truncated TGA file: %zu bytes of RLE data hold at most %zu of the "
+                                                 "%zu pixels",
+                                                 rle_bytes, most_pixels, pixel_count));
         stored.resize(pixel_count * bytes_per_pixel);
         size_t done = 0;
         auto truncated = [&] {

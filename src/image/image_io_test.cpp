@@ -667,10 +667,26 @@ TEST(TgaDecode, Errors) {
               "truncated TGA file: the pixels need 18 bytes but only 17 are there");
     EXPECT_EQ(decode_error(concat(tga_header(10, 3, 2, 24, 0), {0x82, 1, 2, 3, 0x01, 1, 2, 3}), ImageFormat::Tga),
               "truncated TGA file: the RLE data ends after 3 of 6 pixels");
+    EXPECT_EQ(decode_error(concat(tga_header(10, 3, 2, 24, 0), {0x82, 1, 2, 3, 0x82}), ImageFormat::Tga),
+              "truncated TGA file: the RLE data ends after 3 of 6 pixels");
     EXPECT_EQ(decode_error(concat(tga_header(10, 3, 2, 24, 0), {0x82, 1, 2}), ImageFormat::Tga),
-              "truncated TGA file: the RLE data ends after 0 of 6 pixels");
+              "truncated TGA file: 3 bytes of RLE data hold at most 0 of the 6 pixels");
+    // Refused from its size, before 192 MB of pixels are made for it: 4 bytes make at most one packet
+    // of 128 pixels (within the pixel limit, 8000x8000 is not refused for its size alone).
+    EXPECT_EQ(decode_error(concat(tga_header(10, 8000, 8000, 24, 0), {0xff, 1, 2, 3}), ImageFormat::Tga),
+              "truncated TGA file: 4 bytes of RLE data hold at most 128 of the 64000000 pixels");
     EXPECT_EQ(decode_error(concat(tga_header(10, 3, 2, 24, 0), {0x82, 1, 2, 3, 0x83, 4, 5, 6}), ImageFormat::Tga),
               "bad TGA file: an RLE packet runs past the last pixel");
+}
+
+// The size bound above is exact: one run-length packet of 1 + 3 bytes gives 128 pixels, not 129.
+TEST(TgaDecode, FourBytesOfRleDataHold128Pixels) {
+    const ImageRgb8 image = decode_image(concat(tga_header(10, 128, 1, 24, 0), {0xff, 1, 2, 3}), ImageFormat::Tga, "in.tga");
+    ASSERT_EQ(image.width, 128);
+    expect_pixel(image, 0, 0, 3, 2, 1);
+    expect_pixel(image, 127, 0, 3, 2, 1);
+    EXPECT_EQ(decode_error(concat(tga_header(10, 129, 1, 24, 0), {0xff, 1, 2, 3}), ImageFormat::Tga),
+              "truncated TGA file: 4 bytes of RLE data hold at most 128 of the 129 pixels");
 }
 
 // ---- PNG decoding ----
