@@ -53,3 +53,26 @@ struct NodeLanes<4> {
 using NodeF = NodeLanes<kWideBvhWidth>::F;
 inline NodeF load_node(const float* p) { return NodeLanes<kWideBvhWidth>::load(p); }
 inline NodeF splat_node(float x) { return NodeLanes<kWideBvhWidth>::broadcast(x); }
+
+// Node lanes ordered by their bits read as signed 32-bit integers (see hit_children for when that
+// order is the floats' own): the larger and smaller of each pair, and where a <= b.
+inline F8 max_by_bits(F8 a, F8 b) {
+    return {_mm256_castsi256_ps(_mm256_max_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v)))};
+}
+inline F8 min_by_bits(F8 a, F8 b) {
+    return {_mm256_castsi256_ps(_mm256_min_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v)))};
+}
+inline unsigned not_greater_by_bits(F8 a, F8 b) {
+    const __m256i greater = _mm256_cmpgt_epi32(_mm256_castps_si256(a.v), _mm256_castps_si256(b.v));
+    return ~static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(greater))) & 0xffu;
+}
+inline sse::VF max_by_bits(sse::VF a, sse::VF b) {
+    return {_mm_castsi128_ps(_mm_max_epi32(_mm_castps_si128(a.v), _mm_castps_si128(b.v)))};
+}
+inline sse::VF min_by_bits(sse::VF a, sse::VF b) {
+    return {_mm_castsi128_ps(_mm_min_epi32(_mm_castps_si128(a.v), _mm_castps_si128(b.v)))};
+}
+inline unsigned not_greater_by_bits(sse::VF a, sse::VF b) {
+    const __m128i greater = _mm_cmpgt_epi32(_mm_castps_si128(a.v), _mm_castps_si128(b.v));
+    return ~static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(greater))) & 0xfu;
+}

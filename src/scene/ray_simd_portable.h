@@ -52,3 +52,26 @@ inline NodeF splat_node(float x) {
     for (float& lane : r.v) lane = x;
     return r;
 }
+
+// Node lanes ordered by their bits read as signed 32-bit integers (see hit_children for when that
+// order is the floats' own): the larger and smaller of each pair, and where a <= b.
+inline int32_t lane_bits(float x) {
+    int32_t i;
+    __builtin_memcpy(&i, &x, 4);
+    return i;
+}
+inline NodeF max_by_bits(NodeF a, NodeF b) {
+    NodeF r;
+    for (int i = 0; i < kWideBvhWidth; ++i) r.v[i] = lane_bits(a.v[i]) > lane_bits(b.v[i]) ? a.v[i] : b.v[i];
+    return r;
+}
+inline NodeF min_by_bits(NodeF a, NodeF b) {
+    NodeF r;
+    for (int i = 0; i < kWideBvhWidth; ++i) r.v[i] = lane_bits(a.v[i]) > lane_bits(b.v[i]) ? b.v[i] : a.v[i];
+    return r;
+}
+inline unsigned not_greater_by_bits(NodeF a, NodeF b) {
+    unsigned r = 0;
+    for (int i = 0; i < kWideBvhWidth; ++i) r |= (lane_bits(a.v[i]) > lane_bits(b.v[i]) ? 0u : 1u) << i;
+    return r;
+}
