@@ -681,7 +681,8 @@ TEST(TgaDecode, Errors) {
 
 // The size bound above is exact: one run-length packet of 1 + 3 bytes gives 128 pixels, not 129.
 TEST(TgaDecode, FourBytesOfRleDataHold128Pixels) {
-    const ImageRgb8 image = decode_image(concat(tga_header(10, 128, 1, 24, 0), {0xff, 1, 2, 3}), ImageFormat::Tga, "in.tga");
+    const ImageRgb8 image =
+        decode_image(concat(tga_header(10, 128, 1, 24, 0), {0xff, 1, 2, 3}), ImageFormat::Tga, "in.tga");
     ASSERT_EQ(image.width, 128);
     expect_pixel(image, 0, 0, 3, 2, 1);
     expect_pixel(image, 127, 0, 3, 2, 1);

@@ -83,15 +83,15 @@ inline unsigned hit_children(const WideBvhNode& node, const BoxTraversal& r, con
     const NodeF far_z = (bound(r.near_offset[2] ^ kFarFromNear[2]) - r.oz) * r.far_iz;
     if (kWidenInverse) {
         // The floats compared as the signed integers their bits spell: a shorter chain (integer
-        // max, min and compare have one cycle of latency on current x86 cores, the float ones more). For
-        // floats that are not NaN, the integer order is the float order among values >= +0, and
-        // every negative value (-0 included) lies below +0 in both. Here t_min is +0 or more, so
-        // t0 is the same value either way (but for -0 against +0, which order nothing), and a
-        // negative t1 fails t0 <= t1 either way; +0 <= -0 holds for floats only, where a box is
-        // met at t = 0 alone and holds nothing beyond t_min = 0 (boxes are a float step larger
-        // than what they hold). A NaN direction gives a NaN of one sign in both a near and a far
-        // distance of an axis: positive, it is the greatest entry; negative, the least exit;
-        // either way no child is entered.
+        // max, min and compare have one cycle of latency on current x86 cores, the float ones
+        // more). For floats that are not NaN, the integer order is the float order among values
+        // >= +0, and every negative value (-0 included) lies below +0 in both. Here t_min is +0
+        // or more, so t0 is the same value either way (but for -0 against +0, which order
+        // nothing), and a negative t1 fails t0 <= t1 either way; +0 <= -0 holds for floats only,
+        // where a box is met at t = 0 alone and holds nothing beyond t_min = 0 (boxes are a float
+        // step larger than what they hold). A NaN direction gives a NaN of one sign in both a near
+        // and a far distance of an axis: positive, it is the greatest entry; negative, the least
+        // exit; either way no child is entered.
         const NodeF t0 = max_by_bits(max_by_bits(near_x, near_y), max_by_bits(near_z, r.t_min));
         const NodeF t1 = min_by_bits(min_by_bits(far_x, far_y), min_by_bits(far_z, t_cull));
         t_entry = t0;

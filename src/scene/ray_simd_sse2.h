@@ -96,13 +96,19 @@ inline NodeF splat_node(float x) { return NodeLanes<kWideBvhWidth>::broadcast(x)
 inline __m128 greater_by_bits(__m128 a, __m128 b) {
     return _mm_castsi128_ps(_mm_cmpgt_epi32(_mm_castps_si128(a), _mm_castps_si128(b)));
 }
-inline __m128 pick(__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); }
+inline __m128 pick(__m128 mask, __m128 a, __m128 b) {
+    return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+}
 inline __m128 max_by_bits(__m128 a, __m128 b) { return pick(greater_by_bits(a, b), a, b); }
 inline __m128 min_by_bits(__m128 a, __m128 b) { return pick(greater_by_bits(a, b), b, a); }
-inline unsigned not_greater_bits(__m128 a, __m128 b) { return ~static_cast<unsigned>(_mm_movemask_ps(greater_by_bits(a, b))) & 0xfu; }
+inline unsigned not_greater_bits(__m128 a, __m128 b) {
+    return ~static_cast<unsigned>(_mm_movemask_ps(greater_by_bits(a, b))) & 0xfu;
+}
 inline F8 max_by_bits(F8 a, F8 b) { return {max_by_bits(a.lo, b.lo), max_by_bits(a.hi, b.hi)}; }
 inline F8 min_by_bits(F8 a, F8 b) { return {min_by_bits(a.lo, b.lo), min_by_bits(a.hi, b.hi)}; }
-inline unsigned not_greater_by_bits(F8 a, F8 b) { return not_greater_bits(a.lo, b.lo) | not_greater_bits(a.hi, b.hi) << 4; }
+inline unsigned not_greater_by_bits(F8 a, F8 b) {
+    return not_greater_bits(a.lo, b.lo) | not_greater_bits(a.hi, b.hi) << 4;
+}
 inline VF max_by_bits(VF a, VF b) { return {max_by_bits(a.v, b.v)}; }
 inline VF min_by_bits(VF a, VF b) { return {min_by_bits(a.v, b.v)}; }
 inline unsigned not_greater_by_bits(VF a, VF b) { return not_greater_bits(a.v, b.v); }
