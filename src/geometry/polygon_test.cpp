@@ -1,6 +1,7 @@
 // triangulate_polygon (geometry/polygon.h): the fan for convex polygons, exactly as OBJ readers
-// have always cut them; for concave ones, triangles that tile the polygon: their areas add up to
-// its area, each turns the polygon's way, and none reaches outside it.
+// have always cut them (halves for those of very many corners); for concave ones, triangles that
+// tile the polygon: their areas add up to its area, each turns the polygon's way, and none
+// reaches outside it.
 #include "geometry/polygon.h"
 
 #include <gtest/gtest.h>
@@ -147,7 +148,8 @@ TEST(PolygonTest, ShapesThatCannotBeToldKeepTheFan) {
     const std::vector<Vec3f> bow_tie{{0, 0, 0}, {2, 2, 0}, {2, 0, 0}, {0, 2, 0}, {-1, 1, 0}};
     const std::vector<uint32_t> triangles = cut(bow_tie, &changed);
     EXPECT_EQ(triangles.size(), 9u);
-    // Past kMaxEarClippedCorners: the fan, even for a concave polygon.
+    // Past kMaxEarClippedCorners a concave polygon keeps the fan (a convex one is cut in halves:
+    // AConvexPolygonOfVeryManyCornersIsCutInHalves).
     std::vector<Vec3f> comb;
     for (int i = 0; i <= kMaxEarClippedCorners; ++i) comb.push_back({static_cast<float>(i), i % 2 == 0 ? 0.0f : 1.0f, 0});
     comb.push_back({static_cast<float>(kMaxEarClippedCorners), -1, 0});
@@ -160,6 +162,83 @@ TEST(PolygonTest, ShapesThatCannotBeToldKeepTheFan) {
     EXPECT_FALSE(changed);
     lifted[2].z = 1e-4f;  // within a thousandth: flat enough, cut around the notch
     EXPECT_TRUE(triangulate_polygon(lifted.data(), 6, std::vector<uint32_t>(12).data()));
+}
+
+// n corners about (0, 0, 0) in a tilted plane, `turns` times round (turns = 2: a star that
+// winds twice, turning left at every corner like a convex polygon).
+std::vector<Vec3f> circle(int n, int turns = 1) {
+    std::vector<Vec3f> p;
+    const Vec3f u = normalize(Vec3f{1, 0.2f, -0.3f}), v = normalize(cross(Vec3f{0.1f, 0.3f, 1}, u));
+    for (int i = 0; i < n; ++i) {
+        const double angle = 2 * M_PI * turns * i / n;
+        p.push_back(u * static_cast<float>(std::cos(angle)) + v * static_cast<float>(std::sin(angle)));
+    }
+    return p;
+}
+
+// How many of the triangles hold corner 0 (all of a fan's).
+int triangles_at_corner_0(const std::vector<uint32_t>& triangles) {
+    int count = 0;
+    for (size_t t = 0; t < triangles.size(); t += 3)
+        count += triangles[t] == 0 || triangles[t + 1] == 0 || triangles[t + 2] == 0 ? 1 : 0;
+    return count;
+}
+
+// Past kMaxEarClippedCorners a convex polygon is cut in halves, not fanned: its triangles tile it,
+// each keeps its corners in the polygon's order, and corner 0 is in about log2(n) of them.
+TEST(PolygonTest, AConvexPolygonOfVeryManyCornersIsCutInHalves) {
+    const std::vector<Vec3f> disc = circle(1000);
+    bool changed = false;
+    const std::vector<uint32_t> triangles = cut(disc, &changed);
+    EXPECT_TRUE(changed);
+    ASSERT_EQ(triangles.size(), 3u * 998);
+    expect_tiles(disc, triangles);
+    for (size_t t = 0; t < triangles.size(); t += 3)
+        EXPECT_TRUE(triangles[t] < triangles[t + 1] && triangles[t + 1] < triangles[t + 2]) << "triangle " << t / 3;
+    EXPECT_EQ(triangles[0], 0u);  // the first cut: corners 0, 499 and 999
+    EXPECT_EQ(triangles[1], 499u);
+    EXPECT_EQ(triangles[2], 999u);
+    EXPECT_LE(triangles_at_corner_0(triangles), 10);
+    // A disc's cap of 100,000 corners in floats, whose rounding makes some corners turn right by
+    // a little: cut in halves all the same.
+    const std::vector<Vec3f> cap = circle(100000);
+    const std::vector<uint32_t> cap_triangles = cut(cap, &changed);
+    EXPECT_TRUE(changed);
+    EXPECT_LE(triangles_at_corner_0(cap_triangles), 17);
+    // One corner more than ear clipping takes is already cut so.
+    const std::vector<Vec3f> just_past = circle(kMaxEarClippedCorners + 1);
+    EXPECT_TRUE(triangulate_polygon(just_past.data(), kMaxEarClippedCorners + 1,
+                                    std::vector<uint32_t>(3 * (kMaxEarClippedCorners - 1)).data()));
+    // Up to kMaxEarClippedCorners a convex polygon keeps the fan, as every OBJ reader cuts it.
+    const std::vector<Vec3f> at_limit = circle(kMaxEarClippedCorners);
+    EXPECT_EQ(cut(at_limit, &changed), fan(kMaxEarClippedCorners));
+    EXPECT_FALSE(changed);
+}
+
+// Past kMaxEarClippedCorners, what is not flat and convex keeps the fan: a star that winds twice
+// round (every corner turns left), a polygon with a corner off its plane, and (above) a comb.
+TEST(PolygonTest, ManyCornersThatAreNotConvexKeepTheFan) {
+    bool changed = true;
+    const std::vector<Vec3f> star = circle(1001, 2);
+    EXPECT_EQ(cut(star, &changed), fan(1001));
+    EXPECT_FALSE(changed);
+    std::vector<Vec3f> lifted = circle(1000);
+    lifted[300] = lifted[300] + normalize(area_vector(lifted)) * 0.1f;
+    EXPECT_EQ(cut(lifted, &changed), fan(1000));
+    EXPECT_FALSE(changed);
+    // A crescent: half a circle out, and back along a flatter arc inside it. Every corner of the
+    // inner arc turns right by little, the whole by much.
+    std::vector<Vec3f> crescent;
+    for (int i = 0; i <= 500; ++i) {
+        const double angle = M_PI * i / 500;
+        crescent.push_back({static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)), 0});
+    }
+    for (int i = 499; i >= 1; --i) {
+        const double angle = M_PI * i / 500;
+        crescent.push_back({static_cast<float>(std::cos(angle)), static_cast<float>(0.5 * std::sin(angle)), 0});
+    }
+    EXPECT_EQ(cut(crescent, &changed), fan(static_cast<int>(crescent.size())));
+    EXPECT_FALSE(changed);
 }
 
 }  // namespace

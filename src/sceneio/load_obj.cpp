@@ -451,7 +451,7 @@ private:
         if (corners < 3)
             error(keyword, string_printf("a face needs at least 3 vertices, this one has %llu",
                                          static_cast<unsigned long long>(corners)));
-        if (corners > 3 && corners <= kMaxEarClippedCorners && out_.indices)
+        if (corners > 3 && out_.indices)
             chunk_.polygon_faces.push_back({triangle_ - (corners - 2), corners});
     }
 
@@ -575,16 +575,25 @@ private:
     uint64_t triangle_;
 };
 
-// Cuts each face of more than three corners again where its fan was wrong (a concave polygon):
+// Cuts each face of more than three corners again where its fan was wrong (a concave polygon) or
+// slow (a convex one of very many corners, whose slivers all reach its first corner):
 // triangulate_polygon on its corners, now that every vertex is known. The face keeps its
 // count − 2 triangles, in the same places, so nothing moves.
 void retriangulate_polygons(const std::vector<Chunk>& chunks, TriangleMesh& mesh, int threads) {
     parallel_for(chunks.size(), threads, [&](size_t item, int) {
-        uint32_t vertex[kMaxEarClippedCorners], normal[kMaxEarClippedCorners];
-        uint32_t triangles[3 * (kMaxEarClippedCorners - 2)];
-        Vec3f points[kMaxEarClippedCorners];
+        if (chunks[item].polygon_faces.empty()) return;
+        // Room for the corners of a face, grown for the rare faces of very many.
+        std::vector<uint32_t> vertex(kMaxEarClippedCorners), normal(kMaxEarClippedCorners),
+            triangles(3 * (kMaxEarClippedCorners - 2));
+        std::vector<Vec3f> points(kMaxEarClippedCorners);
         for (const Chunk::Polygon& polygon : chunks[item].polygon_faces) {
             const int n = static_cast<int>(polygon.corners);
+            if (static_cast<size_t>(n) > points.size()) {
+                vertex.resize(static_cast<size_t>(n));
+                normal.resize(static_cast<size_t>(n));
+                points.resize(static_cast<size_t>(n));
+                triangles.resize(3 * static_cast<size_t>(n - 2));
+            }
             uint32_t* indices = &mesh.indices[3 * polygon.first_triangle];
             uint32_t* normal_indices = mesh.has_normals() ? &mesh.normal_indices[3 * polygon.first_triangle] : nullptr;
             // The fan (0, k + 1, k + 2) holds corner 0 first in every triangle, then the rest in turn.
@@ -595,7 +604,7 @@ void retriangulate_polygons(const std::vector<Chunk>& chunks, TriangleMesh& mesh
                 points[k] = mesh.positions[vertex[k]];
             }
             if (n == 4 && quad_fan_tiles(points[0], points[1], points[2], points[3])) continue;
-            if (!triangulate_polygon(points, n, triangles)) continue;
+            if (!triangulate_polygon(points.data(), n, triangles.data())) continue;
             for (int i = 0; i < 3 * (n - 2); ++i) {
                 indices[i] = vertex[triangles[i]];
                 if (normal_indices) normal_indices[i] = normal[triangles[i]];

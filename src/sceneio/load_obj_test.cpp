@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -185,6 +186,32 @@ TEST(LoadObj, ConvexPolygonsBecomeFansThatKeepTheWinding) {
     const TriangleMesh pentagon = parse(head + "vn 0 0 1\nvn 0 0 2\nf 1//1 2//2 3//1 4//2 5//1\n");
     EXPECT_EQ(pentagon.indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3, 0, 3, 4}));
     EXPECT_EQ(pentagon.normal_indices, (std::vector<uint32_t>{0, 1, 0, 0, 0, 1, 0, 1, 0}));
+}
+
+// A convex face of more corners than ear clipping takes (a disc's cap of 1000) is cut in halves
+// (triangulate_polygon), not fanned: its vertices come after it, in other chunks, with normals.
+TEST(LoadObj, AConvexFaceOfVeryManyCornersIsCutInHalves) {
+    const int n = 1000;
+    std::string face = "f", vertices;
+    std::vector<Vec3f> corners;
+    for (int i = 0; i < n; ++i) {
+        const float x = static_cast<float>(std::cos(2 * M_PI * i / n)), y = static_cast<float>(std::sin(2 * M_PI * i / n));
+        corners.push_back({x, y, 0});
+        face += " " + std::to_string(i + 1) + "//" + std::to_string(i % 2 + 1);
+        vertices += string_printf("v %.9g %.9g 0\n", x, y);
+    }
+    std::vector<uint32_t> expected(3 * (n - 2));
+    ASSERT_TRUE(triangulate_polygon(corners.data(), n, expected.data()));
+    const std::string text = face + "\n" + vertices + "vn 0 0 1\nvn 0 0 2\n";
+    for (size_t chunk_bytes : {size_t{0}, size_t{200}}) {
+        ObjLoadOptions options;
+        options.threads = 2;
+        options.chunk_bytes = chunk_bytes;
+        const TriangleMesh mesh = parse_obj(text, "m.obj", options);
+        EXPECT_EQ(mesh.indices, expected) << chunk_bytes;
+        ASSERT_EQ(mesh.normal_indices.size(), expected.size());
+        for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(mesh.normal_indices[i], expected[i] % 2) << i;
+    }
 }
 
 TEST(LoadObj, AcceptsCommentsBlankLinesTabsAndCrlf) {
