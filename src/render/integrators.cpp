@@ -800,9 +800,11 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
     // trace_camera_shadows shaded it with them.
     const bool local = integrator.radiance == &whitted_radiance && (!shadow_rays || shadows);
     HitLanes lanes;
-    // Neighbouring hits are mostly on one material: its shades_locally is asked once per run.
-    const Material* last_material = nullptr;
-    bool last_shades_locally = false;
+    // Neighbouring hits are mostly on one object: its material, and whether that shades
+    // locally, are looked up once per run of hits on it.
+    uint32_t last_object = kNoObject;
+    const Material* material = nullptr;
+    bool material_shades_locally = false;
     for (int k = 0; k < count; ++k) {
         shaded[k] = false;
         if (!local) continue;
@@ -817,17 +819,17 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
             counts.shadow += count_bits(shadows[k].known);
             shaded[k] = true;
         } else {
-            const Material& material = scene.materials[scene.instances[hits[k].object].material];
-            if (&material != last_material) {
-                last_material = &material;
-                last_shades_locally = shades_locally(scene, material);
+            if (hits[k].object != last_object) {
+                last_object = hits[k].object;
+                material = &scene.materials[scene.instances[last_object].material];
+                material_shades_locally = shades_locally(scene, *material);
             }
-            if (!last_shades_locally) continue;
+            if (!material_shades_locally) continue;
             const int j = lanes.count++;
             lanes.lane[j] = k;
-            lanes.material[j] = &material;
+            lanes.material[j] = material;
             lanes.to_viewer.set(j, -rays[k].direction);
-            lanes.shininess[j] = material.shininess;
+            lanes.shininess[j] = material->shininess;
         }
     }
     const int n = lanes.count;

@@ -238,23 +238,32 @@ void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const 
     LaneVectors p0, p1, p2;
     int others[kMaxPacketLanes];
     int other_count = 0;
+    // Neighbouring lanes mostly hit one object: what the lanes need of it is looked up once per
+    // run of lanes on it (a lookup per lane was most of this function's time).
+    uint32_t last_object = kNoObject;
+    uint32_t material = 0;
+    const GroupBlock* groups = nullptr;  // the object's groups when it is a flat mesh, else null
     for (int j = 0; j < count; ++j) {
         const Hit& hit = hits[lanes[j]];
         RAYCAST_DCHECK(hit.is_hit());
-        const Instance& inst = scene.instances[hit.object];
-        out.material[j] = inst.material;
-        const bool flat_mesh = inst.kind == ShapeKind::Mesh && inst.transform == kNoTransform &&
-                               !scene.meshes[inst.shape].mesh.has_normals();
-        if (!flat_mesh) {
+        if (hit.object != last_object) {
+            last_object = hit.object;
+            const Instance& inst = scene.instances[hit.object];
+            material = inst.material;
+            const bool flat_mesh = inst.kind == ShapeKind::Mesh && inst.transform == kNoTransform &&
+                                   !scene.meshes[inst.shape].mesh.has_normals();
+            groups = flat_mesh ? scene.meshes[inst.shape].groups.data() : nullptr;
+        }
+        out.material[j] = material;
+        if (!groups) {
             p0.set(j, {0, 0, 0});
             p1.set(j, {1, 0, 0});
             p2.set(j, {0, 1, 0});
             others[other_count++] = j;
             continue;
         }
-        const MeshShape& shape = scene.meshes[inst.shape];
-        RAYCAST_DCHECK(hit.leaf < shape.groups.size());
-        const GroupBlock* group = &shape.groups[hit.leaf];
+        RAYCAST_DCHECK(hit.leaf < scene.meshes[scene.instances[hit.object].shape].groups.size());
+        const GroupBlock* group = groups + hit.leaf;
         RAYCAST_DCHECK(hit.lane < group_triangle_count(group));
         const GroupTriangle corners = group_triangle(group, hit.lane);
         RAYCAST_DCHECK(corners.id == hit.prim);
