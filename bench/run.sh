@@ -212,6 +212,7 @@ render_into() {
     timed "$build" "$binary" "$scene" "$out" --stats --threads "$threads" --size "$size" --quiet "$@"
     local ms
     ms=$(field "$run_out" render_ms)
+    last_line=$run_out last_ms=$ms
     if [ -z "${best_of_ms[$key]}" ] || awk -v a="$ms" -v b="${best_of_ms[$key]}" 'BEGIN { exit !(a + 0 < b + 0) }'; then
         best_of_ms[$key]=$ms
         best_of_line[$key]=$run_out
@@ -232,6 +233,13 @@ best_render() {
     use in_a_row
 }
 mrays() { fmt %.2f "$(calc "$1 / ($2 * 1000)")"; }  # mrays RAYS MS
+# keep_round KIND: the last render's Mrays/s as round[$name,KIND,$run] (nothing if it failed).
+keep_round() {
+    local rays
+    rays=$(field "$last_line" rays)
+    round[$name,$1,$run]=""
+    [ -z "$rays" ] || [ -z "$last_ms" ] || round[$name,$1,$run]=$(mrays "$rays" "$last_ms")
+}
 
 # load_in_turn SCENE: loads and builds SCENE with raycast and the baseline in turn, $turns times
 # each (a 64x64 image, so that the render adds little), and sets turn_load, turn_build,
@@ -261,7 +269,7 @@ load_in_turn() {
 # e_ok says whether any run succeeded (exit 3: the hit fractions differ, which the tables show).
 e_keys=(single packet16 ao_single ao_packet16 raycast_single raycast_packet raycast_ao_single raycast_ao_packet
     raycast_shadow_single raycast_shadow_packet)
-declare -A e_best
+declare -A e_best e_this_round
 embree_forget() {
     e_ok=0 e_last="" e_build="" e_rss=""
     local key
@@ -269,6 +277,7 @@ embree_forget() {
 }
 embree_round() {
     local status=0 key value
+    for key in "${e_keys[@]}"; do e_this_round[$key]=""; done
     timed "$build" "$embree_bench" "$1" --size "$size" --threads "$threads" --repeat 1 \
         --expect-hit-fraction "$2" --raycast || status=$?
     [ "$status" = 0 ] || [ "$status" = 3 ] || return 0
@@ -278,11 +287,16 @@ embree_round() {
     for key in "${e_keys[@]}"; do
         value=$(field "$run_out" "${key}_mrays_per_s")
         [ -z "$value" ] || e_best[$key]=$(max "${e_best[$key]}" "$value")
+        e_this_round[$key]=$value
     done
     [ -z "$run_rss_kib" ] || e_rss=$(max "$e_rss" "$run_rss_kib")
 }
 
 declare -A result
+# Each round's figures, as round[NAME,KIND,RUN] (Mrays/s), for the targets' per-round ratios:
+# a ratio within one round compares two runs taken seconds apart, where the best of each kind
+# may come from rounds minutes apart on a machine whose speed drifts.
+declare -A round
 embree_version="not built"
 for i in "${!names[@]}"; do
     name=${names[$i]}
@@ -298,13 +312,23 @@ for i in "${!names[@]}"; do
     embree_forget
     for run in $(seq "$repeat"); do
         render_into packets "$scene" "out/$name.bmp" "$raycast" --
+        keep_round packets
         render_into single "$scene" "out/${name}_single.bmp" "$raycast" -- --no-packets
+        keep_round single
         render_into spp16 "$scene" "out/${name}_spp16.bmp" "$raycast" -- --spp 16
+        keep_round spp16
         # Shadows: the rays traced as --stats counts them (at most one per hit and light: none
         # towards a light that adds nothing at the hit).
         render_into shadows "${name}_lights.txt" "out/${name}_shadows.bmp" "$raycast" -- --shadows
-        [ "$has_ao" = 0 ] || render_into ao "$scene" "out/${name}_ao.bmp" "$raycast" -- --mode ao
-        [ -z "$embree_bench" ] || embree_round "$scene" "$(field "${best_of_line[packets]}" hit_fraction)"
+        keep_round shadows
+        if [ "$has_ao" = 1 ]; then
+            render_into ao "$scene" "out/${name}_ao.bmp" "$raycast" -- --mode ao
+            keep_round ao
+        fi
+        if [ -n "$embree_bench" ]; then
+            embree_round "$scene" "$(field "${best_of_line[packets]}" hit_fraction)"
+            for key in single packet16 ao_single; do round[$name,e_$key,$run]=${e_this_round[$key]}; done
+        fi
     done
     use packets
     line=$best_line
@@ -447,6 +471,19 @@ get() { echo "${result[$1]:-n/a}"; }
 verdict() { awk -v a="$1" -v b="$3" -v op="$2" 'BEGIN {
     if (a == "n/a" || b == "n/a" || a == "" || b == "") { print "not measured"; exit }
     ok = (op == ">=") ? (a + 0 >= b + 0) : (op == "<=") ? (a + 0 <= b + 0) : (a + 0 < b + 0); print ok ? "met" : "NOT MET" }' </dev/null; }
+# per_round NAME KIND GOAL_KIND FACTOR: in how many rounds KIND's figure reached FACTOR times
+# GOAL_KIND's of the same round, and the median of those rounds' ratios (KIND / (FACTOR x GOAL)).
+per_round() {
+    local run a b ratios=""
+    for run in $(seq "$repeat"); do
+        a=${round[$1,$2,$run]:-} b=${round[$1,$3,$run]:-}
+        [ -n "$a" ] && [ -n "$b" ] || continue
+        ratios+="$(calc "$a / ($4 * $b)") "
+    done
+    [ -n "$ratios" ] || { echo "n/a"; return; }
+    tr ' ' '\n' <<<"$ratios" | sed '/^$/d' | sort -g | awk '{ r[NR] = $1; won += ($1 >= 1) }
+        END { m = NR % 2 ? r[(NR + 1) / 2] : (r[NR / 2] + r[NR / 2 + 1]) / 2; printf "%d of %d, median %.2f", won, NR, m }'
+}
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "n/a" || b == "n/a" || a == "" || b == "" || b + 0 == 0) print "n/a"; else printf "%.2f", a / b }' </dev/null; }
 {
     echo "## Results"
@@ -511,34 +548,36 @@ ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "n/a" || b == "n/a" || a == 
     echo
     echo "Issue #14 (every kind of ray), then the earlier issue's targets."
     echo
-    echo "| target | measured | goal | verdict |"
-    echo "|---|---:|---:|---|"
+    echo "The verdict compares the best of each figure's $repeat runs. The last column compares the figures of each round, taken seconds apart (the best figures may come from rounds minutes apart): the rounds in which the target was met, and the median of the rounds' ratios of measured to goal."
+    echo
+    echo "| target | measured | goal | verdict | per round |"
+    echo "|---|---:|---:|---|---|"
     for name in "${names[@]}"; do
-        echo "| $(get "$name,triangles") triangles: --no-packets render (shaded), Mrays/s, vs Embree rtcIntersect1 | $(get "$name,mrays_single") | $(get "$name,e_single") | $(verdict "$(get "$name,mrays_single")" ">=" "$(get "$name,e_single")") |"
+        echo "| $(get "$name,triangles") triangles: --no-packets render (shaded), Mrays/s, vs Embree rtcIntersect1 | $(get "$name,mrays_single") | $(get "$name,e_single") | $(verdict "$(get "$name,mrays_single")" ">=" "$(get "$name,e_single")") | $(per_round "$name" single e_single 1) |"
     done
     for name in bumpy_1m bumpy_5m; do
-        echo "| $(get "$name,triangles") triangles: --mode ao (all rays), Mrays/s, vs Embree primary + rtcOccluded1 | $(get "$name,mrays_ao") | $(get "$name,e_ao_single") | $(verdict "$(get "$name,mrays_ao")" ">=" "$(get "$name,e_ao_single")") |"
+        echo "| $(get "$name,triangles") triangles: --mode ao (all rays), Mrays/s, vs Embree primary + rtcOccluded1 | $(get "$name,mrays_ao") | $(get "$name,e_ao_single") | $(verdict "$(get "$name,mrays_ao")" ">=" "$(get "$name,e_ao_single")") | $(per_round "$name" ao e_ao_single 1) |"
     done
     for name in "${names[@]}"; do
         spp_goal=$(awk -v m="$(get "$name,mrays")" 'BEGIN { if (m == "n/a") print "n/a"; else printf "%.2f", 0.8 * m }' </dev/null)
-        echo "| $(get "$name,triangles") triangles: --spp 16, Mrays/s, vs 80% of primary | $(get "$name,mrays_spp16") | $spp_goal | $(verdict "$(get "$name,mrays_spp16")" ">=" "$spp_goal") |"
-        echo "| $(get "$name,triangles") triangles: --shadows (directional + point light), Mrays/s, vs 80% of primary | $(get "$name,mrays_shadows") | $spp_goal | $(verdict "$(get "$name,mrays_shadows")" ">=" "$spp_goal") |"
+        echo "| $(get "$name,triangles") triangles: --spp 16, Mrays/s, vs 80% of primary | $(get "$name,mrays_spp16") | $spp_goal | $(verdict "$(get "$name,mrays_spp16")" ">=" "$spp_goal") | $(per_round "$name" spp16 packets 0.8) |"
+        echo "| $(get "$name,triangles") triangles: --shadows (directional + point light), Mrays/s, vs 80% of primary | $(get "$name,mrays_shadows") | $spp_goal | $(verdict "$(get "$name,mrays_shadows")" ">=" "$spp_goal") | $(per_round "$name" shadows packets 0.8) |"
     done
-    echo "| 1M triangles: primary packets (shaded), Mrays/s, vs Embree rtcIntersect16 | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_packet16) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_packet16)") |"
-    echo "| 5M triangles: peak memory, bytes/triangle | $(get bumpy_5m,bpt) | 64 | $(verdict "$(get bumpy_5m,bpt)" "<=" 64) |"
+    echo "| 1M triangles: primary packets (shaded), Mrays/s, vs Embree rtcIntersect16 | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_packet16) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_packet16)") | $(per_round bumpy_1m packets e_packet16 1) |"
+    echo "| 5M triangles: peak memory, bytes/triangle | $(get bumpy_5m,bpt) | 64 | $(verdict "$(get bumpy_5m,bpt)" "<=" 64) | |"
     if [ -n "$baseline" ]; then
         for name in "${names[@]}"; do
-            echo "| $(get "$name,triangles") triangles: build ms, vs the baseline's (in turn, best of $(get "$name,turn_runs")) | $(get "$name,turn_build") | $(get "$name,turn_b_build") | $(verdict "$(get "$name,turn_build")" "<=" "$(get "$name,turn_b_build")") |"
-            echo "| $(get "$name,triangles") triangles: load ms, vs the baseline's (in turn, best of $(get "$name,turn_runs")) | $(get "$name,turn_load") | $(get "$name,turn_b_load") | $(verdict "$(get "$name,turn_load")" "<=" "$(get "$name,turn_b_load")") |"
+            echo "| $(get "$name,triangles") triangles: build ms, vs the baseline's (in turn, best of $(get "$name,turn_runs")) | $(get "$name,turn_build") | $(get "$name,turn_b_build") | $(verdict "$(get "$name,turn_build")" "<=" "$(get "$name,turn_b_build")") | |"
+            echo "| $(get "$name,triangles") triangles: load ms, vs the baseline's (in turn, best of $(get "$name,turn_runs")) | $(get "$name,turn_load") | $(get "$name,turn_b_load") | $(verdict "$(get "$name,turn_load")" "<=" "$(get "$name,turn_b_load")") | |"
         done
-        echo "| course scenes: end to end, sum of the best of $course_repeat, ms, vs the baseline's | $(fmt %.1f "$course_total") | $(fmt %.1f "$course_baseline_total") | $(verdict "$course_total" "<=" "$course_baseline_total") |"
+        echo "| course scenes: end to end, sum of the best of $course_repeat, ms, vs the baseline's | $(fmt %.1f "$course_total") | $(fmt %.1f "$course_baseline_total") | $(verdict "$course_total" "<=" "$course_baseline_total") | |"
     fi
-    echo "| 1M triangles: primary rays, Mrays/s (raycast packets, shaded, vs Embree rtcIntersect1) | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_single) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_single)") |"
-    echo "| 1M triangles: BVH build, ms | $(get bumpy_1m,build) | 1000 | $(verdict "$(get bumpy_1m,build)" "<" 1000) |"
-    echo "| 5M triangles: end to end, s | $(get bumpy_5m,wall) | 10 | $(verdict "$(get bumpy_5m,wall)" "<" 10) |"
-    echo "| 1M triangles: peak memory, bytes/triangle | $(get bumpy_1m,bpt) | 100 | $(verdict "$(get bumpy_1m,bpt)" "<" 100) |"
-    echo "| 1M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_1m,t_speedup) | 2 | $(verdict "$(get bumpy_1m,t_speedup)" ">=" 2) |"
-    echo "| 5M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_5m,t_speedup) | 2 | $(verdict "$(get bumpy_5m,t_speedup)" ">=" 2) |"
+    echo "| 1M triangles: primary rays, Mrays/s (raycast packets, shaded, vs Embree rtcIntersect1) | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_single) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_single)") | |"
+    echo "| 1M triangles: BVH build, ms | $(get bumpy_1m,build) | 1000 | $(verdict "$(get bumpy_1m,build)" "<" 1000) | |"
+    echo "| 5M triangles: end to end, s | $(get bumpy_5m,wall) | 10 | $(verdict "$(get bumpy_5m,wall)" "<" 10) | |"
+    echo "| 1M triangles: peak memory, bytes/triangle | $(get bumpy_1m,bpt) | 100 | $(verdict "$(get bumpy_1m,bpt)" "<" 100) | |"
+    echo "| 1M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_1m,t_speedup) | 2 | $(verdict "$(get bumpy_1m,t_speedup)" ">=" 2) | |"
+    echo "| 5M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_5m,t_speedup) | 2 | $(verdict "$(get bumpy_5m,t_speedup)" ">=" 2) | |"
     echo
     echo "### End to end: $course_label"
     echo
