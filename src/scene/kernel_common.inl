@@ -40,18 +40,20 @@ struct WatertightAxes {
     int kx, ky, kz;
 };
 
+// Computed without a branch (the comparisons' bits index constant tables): an occlusion ray's
+// direction is as good as random, and a branch on it mispredicts about every other ray.
 inline WatertightAxes watertight_axes(float dx, float dy, float dz) {
     const float ax = scalar_abs(dx), ay = scalar_abs(dy), az = scalar_abs(dz);
-    const int kz = ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2);
-    int kx = kz == 2 ? 0 : kz + 1;
-    int ky = kx == 2 ? 0 : kx + 1;
-    const float d[3] = {dx, dy, dz};
-    if (d[kz] < 0) {
-        const int swap = kx;
-        kx = ky;
-        ky = swap;
-    }
-    return {kx, ky, kz};
+    // kz = ax >= ay ? (ax >= az ? 0 : 2) : (ay >= az ? 1 : 2), for each of the 8 outcomes.
+    const unsigned outcome = static_cast<unsigned>(ax >= ay) | static_cast<unsigned>(ax >= az) << 1 |
+                             static_cast<unsigned>(ay >= az) << 2;
+    const unsigned kz = (0x192Au >> (2 * outcome)) & 3u;
+    const unsigned kx = (0x09u >> (2 * kz)) & 3u;  // kz + 1 mod 3
+    const unsigned ky = (0x12u >> (2 * kz)) & 3u;  // kz + 2 mod 3
+    const unsigned negative = static_cast<unsigned>(dx < 0) | static_cast<unsigned>(dy < 0) << 1 |
+                              static_cast<unsigned>(dz < 0) << 2;
+    const unsigned swap = (0u - ((negative >> kz) & 1u)) & (kx ^ ky);  // d[kz] < 0: kx and ky swapped
+    return {static_cast<int>(kx ^ swap), static_cast<int>(ky ^ swap), static_cast<int>(kz)};
 }
 
 // Group bytes, read as floats and ids (group planes are stored in an array of bytes).

@@ -89,6 +89,35 @@ std::vector<Ray> rays_towards(const TriangleMesh& mesh, const std::vector<uint32
     return rays;
 }
 
+// The kernels' own copy of their shared scalar pieces (they include it inside their own
+// namespaces), to test watertight_axes directly.
+namespace kernel_common {
+#include "scene/kernel_common.inl"
+}  // namespace kernel_common
+
+// The kernels choose the watertight test's axes without a branch (a table indexed by the
+// comparisons' bits: an occlusion ray's direction is as good as random, and a branch on it
+// mispredicted about every other ray). Random rays almost never tie two components or carry a
+// zero, an infinity or a NaN, so every combination of such values is checked here against
+// make_watertight_ray, the scalar test's choice.
+TEST(MeshKernel, TheWatertightAxesAreTheScalarTestsForEverySpecialDirection) {
+    const float values[] = {0.0f, -0.0f, 1.0f, -1.0f, 2.0f, -2.0f, 0.5f, -0.5f,
+                            std::numeric_limits<float>::quiet_NaN(), -std::numeric_limits<float>::quiet_NaN(),
+                            INFINITY, -INFINITY, 1e-40f, -1e-40f};
+    int checked = 0;
+    for (float x : values)
+        for (float y : values)
+            for (float z : values) {
+                const WatertightRay expected = make_watertight_ray(Ray{{0, 0, 0}, {x, y, z}});
+                const kernel_common::WatertightAxes got = kernel_common::watertight_axes(x, y, z);
+                EXPECT_TRUE(got.kx == expected.kx && got.ky == expected.ky && got.kz == expected.kz)
+                    << "direction (" << x << ", " << y << ", " << z << "): axes " << got.kx << got.ky << got.kz
+                    << ", the scalar test's " << expected.kx << expected.ky << expected.kz;
+                ++checked;
+            }
+    EXPECT_EQ(checked, 14 * 14 * 14);
+}
+
 TEST(TriangleGroups, EveryKernelTestsAGroupBitForBitAsTheScalarTest) {
     std::mt19937 rng(52);
     std::uniform_real_distribution<float> u01(0, 1);
