@@ -285,7 +285,8 @@ inline GroupHits test_group_lanes(const unsigned char* group, const GroupRay& r)
         // take the test below as they are. Most rays passing the edge tests of a group meet the
         // triangle they leave from, behind them, so nearly every group stops here, without the
         // division, and without a branch on the edge tests (whose outcome is no better than a
-        // coin toss: about 0.7 of the groups that an occlusion ray tests pass them).
+        // coin toss: on the bench meshes' AO rays, 69% of the leaves tested at 1k triangles pass
+        // them and 54% at 1M).
         h.det = u0 + h.u1 + h.u2;
         const F8 num = u0 * az + h.u1 * bz + h.u2 * cz;
         valid = valid & (((num > zero) & (h.det > zero)) | ((num < zero) & (h.det < zero)));
