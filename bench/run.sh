@@ -276,12 +276,12 @@ ratio_summary() {
 }
 
 # embree_round SCENE HIT_FRACTION: one run of raycast_embree_bench (Embree's rays, then the same
-# kinds through raycast's queries, each traced once), keeping each figure's best in e_best, the
-# least build time in e_build, the largest peak memory in e_rss and the last run's line in e_last;
+# kinds through raycast's queries, each traced once), keeping each figure's best in e_best and
+# this round's (round $run of mesh $name) in round[$name,e_KEY,$run], the least build time in e_build, the largest peak memory in e_rss and the last run's line in e_last;
 # e_ok says whether any run succeeded (exit 3: the hit fractions differ, which the tables show).
 e_keys=(single packet16 ao_single ao_packet16 raycast_single raycast_packet raycast_ao_single raycast_ao_packet
     raycast_shadow_single raycast_shadow_packet)
-declare -A e_best e_this_round
+declare -A e_best
 embree_forget() {
     e_ok=0 e_last="" e_build="" e_rss=""
     local key
@@ -289,7 +289,6 @@ embree_forget() {
 }
 embree_round() {
     local status=0 key value
-    for key in "${e_keys[@]}"; do e_this_round[$key]=""; done
     timed "$build" "$embree_bench" "$1" --size "$size" --threads "$threads" --repeat 1 \
         --expect-hit-fraction "$2" --raycast || status=$?
     [ "$status" = 0 ] || [ "$status" = 3 ] || return 0
@@ -299,7 +298,7 @@ embree_round() {
     for key in "${e_keys[@]}"; do
         value=$(field "$run_out" "${key}_mrays_per_s")
         [ -z "$value" ] || e_best[$key]=$(max "${e_best[$key]}" "$value")
-        e_this_round[$key]=$value
+        round[$name,e_$key,$run]=$value
     done
     [ -z "$run_rss_kib" ] || e_rss=$(max "$e_rss" "$run_rss_kib")
 }
@@ -337,10 +336,7 @@ for i in "${!names[@]}"; do
             render_into ao "$scene" "out/${name}_ao.bmp" "$raycast" -- --mode ao
             keep_round ao
         fi
-        if [ -n "$embree_bench" ]; then
-            embree_round "$scene" "$(field "${best_of_line[packets]}" hit_fraction)"
-            for key in single packet16 ao_single; do round[$name,e_$key,$run]=${e_this_round[$key]}; done
-        fi
+        [ -z "$embree_bench" ] || embree_round "$scene" "$(field "${best_of_line[packets]}" hit_fraction)"
     done
     use packets
     line=$best_line
