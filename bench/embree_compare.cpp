@@ -17,6 +17,12 @@
 // raycast's intersect/occluded (one ray at a time) and PacketTracer (packets: camera rays in 8x8
 // blocks of four 4x4 packets, which walk the BVH together as the renderer's do), plus shadow rays
 // towards the scene's first light (one ray at a time, and each primary packet's together).
+// With --paired N, neither of the above: both scenes stay in memory, and N pairs of passes compare
+// Embree's rays with raycast's renders as the command line makes them (shaded, an image written to
+// memory): rtcIntersect1 with --no-packets, rtcIntersect1 + rtcOccluded1 with --mode ao, and
+// rtcIntersect16 with the packet render. The two passes of a pair run a moment apart, the first of
+// them in turn, so that the machine's drift over minutes (10-30% on a shared virtual machine) falls
+// on both; each pair gives the ratio of raycast's Mrays/s to Embree's.
 // Prints key=value pairs (one line); exits 3 when the hit fraction of rtcIntersect1 differs from
 // --expect-hit-fraction (raycast's, at the 4 digits raycast prints). Embree's two paths need not
 // agree to the ray: rtcIntersect16 may differ by a ray or two on silhouette edges, so
@@ -42,6 +48,7 @@
 #include "base/error.h"
 #include "base/timer.h"
 #include "math/mat4.h"
+#include "render/render.h"
 #include "render/sampler.h"
 #include "render/shade.h"
 #include "scene/build_scene.h"
@@ -64,6 +71,7 @@ struct Options {
     int threads = 2;
     int repeat = 3;
     int ao_rays = 16;
+    int paired = 0;  ///< pairs of passes in the --paired comparison (0: the passes above instead)
     bool trace_raycast = false;
     bool has_expected = false;
     double expected_hit_fraction = 0;
@@ -72,7 +80,7 @@ struct Options {
 [[noreturn]] void usage(const char* message) {
     std::fprintf(stderr,
                  "raycast_embree_bench: %s\nusage: raycast_embree_bench SCENE [--size WxH] [--threads N] "
-                 "[--repeat N] [--expect-hit-fraction F] [--ao-rays N] [--raycast]\n",
+                 "[--repeat N] [--expect-hit-fraction F] [--ao-rays N] [--raycast | --paired N]\n",
                  message);
     std::exit(2);
 }
@@ -95,6 +103,9 @@ Options parse_options(int argc, char** argv) {
         } else if (arg == "--ao-rays" && has_value) {
             options.ao_rays = std::atoi(argv[++i]);
             if (options.ao_rays < 1 || options.ao_rays > 64) usage("--ao-rays needs a number from 1 to 64");
+        } else if (arg == "--paired" && has_value) {
+            options.paired = std::atoi(argv[++i]);
+            if (options.paired < 1) usage("--paired needs a positive number of pairs");
         } else if (arg == "--raycast") {
             options.trace_raycast = true;
         } else if (arg == "--expect-hit-fraction" && has_value) {
@@ -107,6 +118,7 @@ Options parse_options(int argc, char** argv) {
         }
     }
     if (options.scene_path.empty()) usage("no scene file given");
+    if (options.paired > 0 && options.trace_raycast) usage("--paired and --raycast are two different runs");
     return options;
 }
 
@@ -497,6 +509,70 @@ struct RaycastPasses {
     }
 };
 
+// ---------------------------------------------------------------------------------------------
+// --paired: Embree's passes and raycast's renders, a moment apart
+
+// One render as `raycast SCENE OUT --stats` makes it (the colour image only, in memory): its
+// render_ms and rays= as TraceResult's ms and rays, and the camera rays that hit.
+TraceResult render_pass(const Scene& scene, const RenderOptions& options) {
+    RenderStats stats;
+    render_frame_rgb8(scene, options, FrameRequest{}, &stats);
+    TraceResult result;
+    result.ms = stats.milliseconds;
+    result.rays = stats.rays;
+    result.hits = stats.hits;
+    return result;
+}
+
+// `pairs` pairs of one Embree pass and one raycast render, after one of each unrecorded (the first
+// touches of memory); which of the two goes first alternates from pair to pair. Prints, as
+// " paired_NAME=r1,r2,... paired_NAME_best=b", the pairs' ratios of raycast's Mrays/s to
+// Embree's and the ratio of the two sides' best passes.
+template <typename EmbreeFn, typename RaycastFn>
+void print_paired(const char* name, int pairs, EmbreeFn&& embree, RaycastFn&& raycast) {
+    embree();
+    raycast();
+    std::string ratios;
+    double best_embree = 0, best_raycast = 0;
+    for (int pair = 0; pair < pairs; ++pair) {
+        TraceResult e, r;
+        if (pair % 2 == 0) {
+            e = embree();
+            r = raycast();
+        } else {
+            r = raycast();
+            e = embree();
+        }
+        best_embree = std::max(best_embree, mrays_per_s(e));
+        best_raycast = std::max(best_raycast, mrays_per_s(r));
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%s%.4f", pair > 0 ? "," : "", mrays_per_s(r) / mrays_per_s(e));
+        ratios += buffer;
+    }
+    std::printf(" paired_%s=%s paired_%s_best=%.4f", name, ratios.c_str(), name, best_raycast / best_embree);
+}
+
+// The --paired run: Embree's scene is built (by the caller), then raycast's from the same file,
+// and the three comparisons of the targets run pair by pair. Prints their ratios.
+void run_paired(const Options& options, const EmbreePasses& embree, const SceneLoadOptions& load_options, int width,
+                int height) {
+    SceneBuildOptions build_options;
+    build_options.width = width;
+    build_options.height = height;
+    build_options.threads = options.threads;
+    const Scene ours = build_scene(load_scene_file(options.scene_path, load_options), build_options);
+    RenderOptions single, ao, packets;
+    single.threads = ao.threads = packets.threads = options.threads;
+    single.packet_isa = PacketIsa::None;
+    ao.mode = RenderMode::AmbientOcclusion;
+    ao.ao_samples = options.ao_rays;
+    const int n = options.paired;
+    std::printf(" paired_runs=%d raycast_packets=%s", n, packet_isa_name(packets.packet_isa));
+    print_paired("single", n, [&] { return embree.single(false); }, [&] { return render_pass(ours, single); });
+    print_paired("ao", n, [&] { return embree.single(true); }, [&] { return render_pass(ours, ao); });
+    print_paired("packets", n, [&] { return embree.packets(false); }, [&] { return render_pass(ours, packets); });
+}
+
 std::string mrays_field(const char* name, const TraceResult& r) {
     char buffer[96];
     std::snprintf(buffer, sizeof buffer, " %s_mrays_per_s=%.3f", name, mrays_per_s(r));
@@ -558,6 +634,15 @@ int run(const Options& options) {
 
     const int threads = options.threads, repeat = options.repeat;
     const EmbreePasses embree{scene, camera, threads, options.ao_rays, 0.1f * box_diagonal(scene_box)};
+    if (options.paired > 0) {
+        std::printf("embree-bench embree=%s triangles=%zu threads=%d size=%dx%d load_ms=%.3f build_ms=%.3f",
+                    RTC_VERSION_STRING, triangle_count, threads, width, height, load_ms, build_ms);
+        run_paired(options, embree, load_options, width, height);
+        std::printf("\n");
+        rtcReleaseScene(scene);
+        rtcReleaseDevice(device);
+        return 0;
+    }
     const TraceResult single = best_of(repeat, [&] { return embree.single(false); });
     const TraceResult packets = best_of(repeat, [&] { return embree.packets(false); });
     const TraceResult ao_single = best_of(repeat, [&] { return embree.single(true); });

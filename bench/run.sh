@@ -8,10 +8,11 @@
 # Builds Release in build-bench/, generates the meshes once (cached in build-bench/meshes/), renders
 # each at 1024x1024 on 2 threads with --stats (primary rays with and without packets, --spp 16,
 # --shadows with a directional and a point light, and --mode ao when the build has it), runs
-# raycast_embree_bench (Embree's rays, then the same kinds of rays through raycast's own queries)
-# and raycast_tinyobj_bench on the same meshes when they were built (libembree-dev,
-# libtinyobjloader-dev), and prints Markdown tables, also written to build-bench/results.md. Run it
-# on a quiet machine: every figure is a wall-clock time.
+# raycast_embree_bench (Embree's rays, then the same kinds of rays through raycast's own queries;
+# then Embree's passes and raycast's renders in pairs, in one process) and raycast_tinyobj_bench
+# on the same meshes when they were built (libembree-dev, libtinyobjloader-dev), and prints
+# Markdown tables, also written to build-bench/results.md. Run it on a quiet machine: every figure
+# is a wall-clock time.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -28,7 +29,7 @@ while [ $# -gt 0 ]; do
         --repeat)
             [[ $# -ge 2 && $2 =~ ^[1-9][0-9]*$ ]] || { echo "bench/run.sh: --repeat needs a count of runs" >&2; exit 2; }
             repeat=$2; shift ;;
-        -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+        -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
         *) echo "bench/run.sh: unknown argument '$1' (use --quick, --baseline BINARY or --repeat N)" >&2; exit 2 ;;
     esac
     shift
@@ -393,6 +394,15 @@ for i in "${!names[@]}"; do
         result[$name,turn_build_rounds]=$(ratio_summary "$turn_build_ratios" "<=")
     fi
 
+    if [ -n "$embree_bench" ]; then
+        # Both scenes in one process, Embree's pass and raycast's render a moment apart, $turns pairs.
+        log "$name: Embree's rays and raycast's renders in pairs, in one process"
+        if timed "$build" "$embree_bench" "$scene" --size "$size" --threads "$threads" --paired "$turns"; then
+            for key in single ao packets; do
+                result[$name,paired_$key]="$(ratio_summary "$(tr ',' ' ' <<<"$(field "$run_out" "paired_$key")")" ">="), best $(fmt %.2f "$(field "$run_out" "paired_${key}_best")")"
+            done
+        fi
+    fi
     if [ "$e_ok" = 1 ]; then
         embree_version=$(field "$e_last" embree)
         result[$name,e_build]=$(fmt %.1f "$e_build")
@@ -556,36 +566,36 @@ ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "n/a" || b == "n/a" || a == 
     echo
     echo "Issue #14 (every kind of ray), then the earlier issue's targets."
     echo
-    echo "The verdict compares the best of each figure's $repeat runs. The last column compares the figures of each round, taken seconds apart (the best figures may come from rounds minutes apart): the rounds in which the target was met, and the median of the rounds' ratios of measured to goal (for the load and build targets, each turn's raycast time over the baseline's: at most 1 meets them)."
+    echo "The verdict compares the best of each figure's $repeat runs. \"Per round\" compares the figures of each round, taken seconds apart (the best figures may come from rounds minutes apart): the rounds in which the target was met, and the median of the rounds' ratios of measured to goal (for the load and build targets, each turn's raycast time over the baseline's: at most 1 meets them). \"Paired\" compares, in one process holding both scenes, $turns pairs of an Embree pass and a raycast render taken a moment apart: the pairs in which raycast was at least as fast, the median of the pairs' ratios, and the ratio of the two sides' best passes."
     echo
-    echo "| target | measured | goal | verdict | per round |"
-    echo "|---|---:|---:|---|---|"
+    echo "| target | measured | goal | verdict | per round | paired |"
+    echo "|---|---:|---:|---|---|---|"
     for name in "${names[@]}"; do
-        echo "| $(get "$name,triangles") triangles: --no-packets render (shaded), Mrays/s, vs Embree rtcIntersect1 | $(get "$name,mrays_single") | $(get "$name,e_single") | $(verdict "$(get "$name,mrays_single")" ">=" "$(get "$name,e_single")") | $(per_round "$name" single e_single 1) |"
+        echo "| $(get "$name,triangles") triangles: --no-packets render (shaded), Mrays/s, vs Embree rtcIntersect1 | $(get "$name,mrays_single") | $(get "$name,e_single") | $(verdict "$(get "$name,mrays_single")" ">=" "$(get "$name,e_single")") | $(per_round "$name" single e_single 1) | $(get "$name,paired_single") |"
     done
     for name in bumpy_1m bumpy_5m; do
-        echo "| $(get "$name,triangles") triangles: --mode ao (all rays), Mrays/s, vs Embree primary + rtcOccluded1 | $(get "$name,mrays_ao") | $(get "$name,e_ao_single") | $(verdict "$(get "$name,mrays_ao")" ">=" "$(get "$name,e_ao_single")") | $(per_round "$name" ao e_ao_single 1) |"
+        echo "| $(get "$name,triangles") triangles: --mode ao (all rays), Mrays/s, vs Embree primary + rtcOccluded1 | $(get "$name,mrays_ao") | $(get "$name,e_ao_single") | $(verdict "$(get "$name,mrays_ao")" ">=" "$(get "$name,e_ao_single")") | $(per_round "$name" ao e_ao_single 1) | $(get "$name,paired_ao") |"
     done
     for name in "${names[@]}"; do
         spp_goal=$(awk -v m="$(get "$name,mrays")" 'BEGIN { if (m == "n/a") print "n/a"; else printf "%.2f", 0.8 * m }' </dev/null)
-        echo "| $(get "$name,triangles") triangles: --spp 16, Mrays/s, vs 80% of primary | $(get "$name,mrays_spp16") | $spp_goal | $(verdict "$(get "$name,mrays_spp16")" ">=" "$spp_goal") | $(per_round "$name" spp16 packets 0.8) |"
-        echo "| $(get "$name,triangles") triangles: --shadows (directional + point light), Mrays/s, vs 80% of primary | $(get "$name,mrays_shadows") | $spp_goal | $(verdict "$(get "$name,mrays_shadows")" ">=" "$spp_goal") | $(per_round "$name" shadows packets 0.8) |"
+        echo "| $(get "$name,triangles") triangles: --spp 16, Mrays/s, vs 80% of primary | $(get "$name,mrays_spp16") | $spp_goal | $(verdict "$(get "$name,mrays_spp16")" ">=" "$spp_goal") | $(per_round "$name" spp16 packets 0.8) | |"
+        echo "| $(get "$name,triangles") triangles: --shadows (directional + point light), Mrays/s, vs 80% of primary | $(get "$name,mrays_shadows") | $spp_goal | $(verdict "$(get "$name,mrays_shadows")" ">=" "$spp_goal") | $(per_round "$name" shadows packets 0.8) | |"
     done
-    echo "| 1M triangles: primary packets (shaded), Mrays/s, vs Embree rtcIntersect16 | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_packet16) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_packet16)") | $(per_round bumpy_1m packets e_packet16 1) |"
-    echo "| 5M triangles: peak memory, bytes/triangle | $(get bumpy_5m,bpt) | 64 | $(verdict "$(get bumpy_5m,bpt)" "<=" 64) | |"
+    echo "| 1M triangles: primary packets (shaded), Mrays/s, vs Embree rtcIntersect16 | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_packet16) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_packet16)") | $(per_round bumpy_1m packets e_packet16 1) | $(get bumpy_1m,paired_packets) |"
+    echo "| 5M triangles: peak memory, bytes/triangle | $(get bumpy_5m,bpt) | 64 | $(verdict "$(get bumpy_5m,bpt)" "<=" 64) | | |"
     if [ -n "$baseline" ]; then
         for name in "${names[@]}"; do
-            echo "| $(get "$name,triangles") triangles: build ms, vs the baseline's (in turn, best of $(get "$name,turn_runs")) | $(get "$name,turn_build") | $(get "$name,turn_b_build") | $(verdict "$(get "$name,turn_build")" "<=" "$(get "$name,turn_b_build")") | $(get "$name,turn_build_rounds") |"
-            echo "| $(get "$name,triangles") triangles: load ms, vs the baseline's (in turn, best of $(get "$name,turn_runs")) | $(get "$name,turn_load") | $(get "$name,turn_b_load") | $(verdict "$(get "$name,turn_load")" "<=" "$(get "$name,turn_b_load")") | $(get "$name,turn_load_rounds") |"
+            echo "| $(get "$name,triangles") triangles: build ms, vs the baseline's (in turn, best of $(get "$name,turn_runs")) | $(get "$name,turn_build") | $(get "$name,turn_b_build") | $(verdict "$(get "$name,turn_build")" "<=" "$(get "$name,turn_b_build")") | $(get "$name,turn_build_rounds") | |"
+            echo "| $(get "$name,triangles") triangles: load ms, vs the baseline's (in turn, best of $(get "$name,turn_runs")) | $(get "$name,turn_load") | $(get "$name,turn_b_load") | $(verdict "$(get "$name,turn_load")" "<=" "$(get "$name,turn_b_load")") | $(get "$name,turn_load_rounds") | |"
         done
-        echo "| course scenes: end to end, sum of the best of $course_repeat, ms, vs the baseline's | $(fmt %.1f "$course_total") | $(fmt %.1f "$course_baseline_total") | $(verdict "$course_total" "<=" "$course_baseline_total") | |"
+        echo "| course scenes: end to end, sum of the best of $course_repeat, ms, vs the baseline's | $(fmt %.1f "$course_total") | $(fmt %.1f "$course_baseline_total") | $(verdict "$course_total" "<=" "$course_baseline_total") | | |"
     fi
-    echo "| 1M triangles: primary rays, Mrays/s (raycast packets, shaded, vs Embree rtcIntersect1) | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_single) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_single)") | |"
-    echo "| 1M triangles: BVH build, ms | $(get bumpy_1m,build) | 1000 | $(verdict "$(get bumpy_1m,build)" "<" 1000) | |"
-    echo "| 5M triangles: end to end, s | $(get bumpy_5m,wall) | 10 | $(verdict "$(get bumpy_5m,wall)" "<" 10) | |"
-    echo "| 1M triangles: peak memory, bytes/triangle | $(get bumpy_1m,bpt) | 100 | $(verdict "$(get bumpy_1m,bpt)" "<" 100) | |"
-    echo "| 1M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_1m,t_speedup) | 2 | $(verdict "$(get bumpy_1m,t_speedup)" ">=" 2) | |"
-    echo "| 5M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_5m,t_speedup) | 2 | $(verdict "$(get bumpy_5m,t_speedup)" ">=" 2) | |"
+    echo "| 1M triangles: primary rays, Mrays/s (raycast packets, shaded, vs Embree rtcIntersect1) | $(get bumpy_1m,mrays) | $(get bumpy_1m,e_single) | $(verdict "$(get bumpy_1m,mrays)" ">=" "$(get bumpy_1m,e_single)") | | |"
+    echo "| 1M triangles: BVH build, ms | $(get bumpy_1m,build) | 1000 | $(verdict "$(get bumpy_1m,build)" "<" 1000) | | |"
+    echo "| 5M triangles: end to end, s | $(get bumpy_5m,wall) | 10 | $(verdict "$(get bumpy_5m,wall)" "<" 10) | | |"
+    echo "| 1M triangles: peak memory, bytes/triangle | $(get bumpy_1m,bpt) | 100 | $(verdict "$(get bumpy_1m,bpt)" "<" 100) | | |"
+    echo "| 1M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_1m,t_speedup) | 2 | $(verdict "$(get bumpy_1m,t_speedup)" ">=" 2) | | |"
+    echo "| 5M triangles: OBJ load speed-up over tinyobjloader | $(get bumpy_5m,t_speedup) | 2 | $(verdict "$(get bumpy_5m,t_speedup)" ">=" 2) | | |"
     echo
     echo "### End to end: $course_label"
     echo
