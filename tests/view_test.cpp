@@ -314,6 +314,63 @@ TEST_F(ViewTest, EditingTheSceneReloadsItAndATypoKeepsTheLastGoodImage) {
     EXPECT_TRUE(status["errors"].array.empty());
 }
 
+// An editor's save truncates the file, writes it and closes it, and a writer that loses the
+// processor in between leaves the file empty or half written for a while. The viewer reloads when
+// the writer has closed the file: one new version, and no error from the empty or half file.
+TEST_F(ViewTest, ASaveWrittenInStepsIsReadOnceWhenTheWriterClosesIt) {
+    const std::string dir = scene_dir("slow_save");
+    Viewer viewer(dir, "s.txt");
+    const double version = json_of(get(viewer.port(), "/status").body)["version"].number;
+    std::string scene = kScene;
+    scene.replace(scene.find("color 0.2 0.3 0.5"), 17, "color 0.9 0.1 0.1");
+    const size_t half = scene.find("Group");
+    {
+        std::ofstream out(dir + "/s.txt", std::ios::trunc);  // empty from here
+        ASSERT_TRUE(out);
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        JsonValue status = json_of(get(viewer.port(), "/status").body);
+        EXPECT_EQ(status["version"].number, version) << "the viewer read the file while it was empty";
+        EXPECT_TRUE(status["errors"].array.empty());
+        out << scene.substr(0, half) << std::flush;  // the camera and materials, no objects yet
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        status = json_of(get(viewer.port(), "/status").body);
+        EXPECT_EQ(status["version"].number, version) << "the viewer read the file while it was half written";
+        EXPECT_TRUE(status["errors"].array.empty());
+        out << scene.substr(half);
+    }
+    const JsonValue status = wait_for_version_after(viewer.port(), version);
+    EXPECT_EQ(status["version"].number, version + 1);
+    EXPECT_TRUE(status["errors"].array.empty());
+    ASSERT_EQ(run_raycast("s.txt new" + image_extension() + " -q", dir).exit_code, 0);
+    EXPECT_TRUE(get(viewer.port(), "/image").body == read_file(dir + "/new" + image_extension()));
+    // Nothing more to read: past the 200 ms look, the version stays.
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    EXPECT_EQ(json_of(get(viewer.port(), "/status").body)["version"].number, version + 1);
+}
+
+// A writer that keeps the file open is not waited for past two seconds: what it has written by
+// then is read (and, if its close changes nothing more, not read again).
+TEST_F(ViewTest, AFileKeptOpenByItsWriterIsReadAfterTwoSeconds) {
+    const std::string dir = scene_dir("kept_open");
+    Viewer viewer(dir, "s.txt");
+    const double version = json_of(get(viewer.port(), "/status").body)["version"].number;
+    std::string scene = kScene;
+    scene.replace(scene.find("color 0.2 0.3 0.5"), 17, "color 0.9 0.1 0.1");
+    std::ofstream out(dir + "/s.txt", std::ios::trunc);
+    ASSERT_TRUE(out);
+    out << scene << std::flush;
+    const auto start = std::chrono::steady_clock::now();
+    const JsonValue status = wait_for_version_after(viewer.port(), version);
+    const long long waited_ms =
+        std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(status["version"].number, version + 1);
+    EXPECT_TRUE(status["errors"].array.empty());
+    EXPECT_GE(waited_ms, 1500) << "read before the writer's time was up";
+    out.close();
+    std::this_thread::sleep_for(std::chrono::milliseconds(400));
+    EXPECT_EQ(json_of(get(viewer.port(), "/status").body)["version"].number, version + 1);
+}
+
 TEST_F(ViewTest, BadQueryValuesAreAnsweredFourHundredWithTheReason) {
     const std::string dir = scene_dir("queries");
     Viewer viewer(dir, "s.txt");
