@@ -340,22 +340,28 @@ Vec3f ambient_occlusion_radiance(const Integrator& integrator, const Ray& ray, c
     // The rays leave one point, so they share the top of the BVH and most of the boxes near the
     // point: with the render loop's tracer they go in packets, whose box tests serve them all.
     const int lanes = context.tracer ? context.tracer->lanes() : 1;
+    const HemisphereBasis basis(normal);
     int open = 0;
     bool budget_left = true;
     for (int first = 0; first < samples && budget_left; first += lanes) {
+        const int wanted = std::min(lanes, samples - first);
+        int count = 0;
+        while (count < wanted && take_ray(context)) ++count;
+        budget_left = count == wanted;
+        if (count == 0) break;
+        context.counts->occlusion += static_cast<uint64_t>(count);
+        // The packet's directions together (the numbers, then the directions, each a loop over
+        // independent lanes), then its rays.
+        float u0[kMaxPacketLanes], u1[kMaxPacketLanes], dx[kMaxPacketLanes], dy[kMaxPacketLanes], dz[kMaxPacketLanes];
+        context.sampler->next_2d_n(count, u0, u1);
+        sample_cosine_hemisphere_n(basis, count, u0, u1, dx, dy, dz);
         Ray probes[kMaxPacketLanes];
         float t_max[kMaxPacketLanes];
         bool blocked[kMaxPacketLanes];
-        int count = 0;
-        for (; count < lanes && first + count < samples; ++count) {
-            const Vec3f direction = sample_cosine_hemisphere(normal, context.sampler->next_2d());
-            if (!take_ray(context)) {
-                budget_left = false;
-                break;
-            }
-            ++context.counts->occlusion;
-            probes[count] = {offset_ray_origin_by(surface.position, surface.geometric_normal, direction, offset), direction};
-            t_max[count] = integrator.ao_distance;
+        for (int k = 0; k < count; ++k) {
+            const Vec3f direction{dx[k], dy[k], dz[k]};
+            probes[k] = {offset_ray_origin_by(surface.position, surface.geometric_normal, direction, offset), direction};
+            t_max[k] = integrator.ao_distance;
         }
         if (context.tracer)
             context.tracer->occluded(probes, count, 0, t_max, blocked);

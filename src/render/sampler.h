@@ -77,21 +77,49 @@ inline void sincos_of_turns(float turns, float& sine, float& cosine) {
     cosine = ((quarter + 1) & 2) != 0 ? -b : b;
 }
 
+/// The orthonormal basis of Duff et al. (2017) around a unit normal: the directions that
+/// sample_cosine_hemisphere turns its disk's x and y into.
+struct HemisphereBasis {
+    Vec3f tangent, bitangent, normal;
+    explicit HemisphereBasis(Vec3f n) : normal(n) {
+        const float sign = std::copysign(1.0f, n.z);
+        const float a = -1 / (sign + n.z);
+        const float b = n.x * n.y * a;
+        tangent = {1 + sign * n.x * n.x * a, sign * b, -sign * n.x};
+        bitangent = {b, sign + n.y * n.y * a, -n.y};
+    }
+};
+
 /// A direction about the unit `normal` with density cos θ / π (the cosine-weighted hemisphere),
 /// from u in [0, 1)²: Malley's method, a uniform point on the disk (r = √u₀, φ = 2πu₁) lifted to
 /// the hemisphere, in the orthonormal basis of Duff et al. (2017) around the normal.
-inline Vec3f sample_cosine_hemisphere(Vec3f normal, Vec2f u) {
+inline Vec3f sample_cosine_hemisphere(const HemisphereBasis& basis, Vec2f u) {
     const float r = std::sqrt(u.x);
     float sin_phi, cos_phi;
     sincos_of_turns(u.y, sin_phi, cos_phi);
     const float x = r * cos_phi, y = r * sin_phi;
     const float z = std::sqrt(std::fmax(0.0f, 1 - u.x));
-    const float sign = std::copysign(1.0f, normal.z);
-    const float a = -1 / (sign + normal.z);
-    const float b = normal.x * normal.y * a;
-    const Vec3f tangent{1 + sign * normal.x * normal.x * a, sign * b, -sign * normal.x};
-    const Vec3f bitangent{b, sign + normal.y * normal.y * a, -normal.y};
-    return tangent * x + bitangent * y + normal * z;
+    return basis.tangent * x + basis.bitangent * y + basis.normal * z;
+}
+
+inline Vec3f sample_cosine_hemisphere(Vec3f normal, Vec2f u) { return sample_cosine_hemisphere(HemisphereBasis(normal), u); }
+
+/// sample_cosine_hemisphere for `count` numbers at once, from arrays to arrays (direction i from
+/// u0[i], u1[i]), each direction bit for bit the one call's: the basis found once, and a loop
+/// over independent lanes that the compiler vectorises (an ambient-occlusion hit draws 16).
+/// 1 − u₀ is positive for every u₀ in [0, 1), so the clamp at 0 of the single call is not needed.
+inline void sample_cosine_hemisphere_n(const HemisphereBasis& basis, int count, const float* u0, const float* u1,
+                                       float* x_out, float* y_out, float* z_out) {
+    for (int i = 0; i < count; ++i) {
+        const float r = std::sqrt(u0[i]);
+        float sin_phi, cos_phi;
+        sincos_of_turns(u1[i], sin_phi, cos_phi);
+        const float x = r * cos_phi, y = r * sin_phi;
+        const float z = std::sqrt(1 - u0[i]);
+        x_out[i] = basis.tangent.x * x + basis.bitangent.x * y + basis.normal.x * z;
+        y_out[i] = basis.tangent.y * x + basis.bitangent.y * y + basis.normal.y * z;
+        z_out[i] = basis.tangent.z * x + basis.bitangent.z * y + basis.normal.z * z;
+    }
 }
 
 /// The random numbers an integrator draws while it traces one camera sample (directions for
@@ -110,6 +138,19 @@ public:
     Vec2f next_2d() {
         const float u = next_1d();
         return {u, next_1d()};
+    }
+    /// What `count` calls of next_2d() would return, as two arrays (u0[i], u1[i] the i-th pair):
+    /// independent hashes, in a loop the compiler vectorises.
+    void next_2d_n(int count, float* u0, float* u1) {
+        if (count <= 0) return;
+        if (index_ == 0) seed_ = hash32(pixel_index_ * 0x85ebca6bU ^ hash32(sample_index_ + 0x27d4eb2fU));
+        const uint32_t first = index_;
+        for (int i = 0; i < count; ++i) {
+            const uint32_t k = first + 2 * static_cast<uint32_t>(i);
+            u0[i] = unit_float(hash32(seed_ ^ hash32(k * 0x9e3779b9U + 0x165667b1U)));
+            u1[i] = unit_float(hash32(seed_ ^ hash32((k + 1) * 0x9e3779b9U + 0x165667b1U)));
+        }
+        index_ = first + 2 * static_cast<uint32_t>(count);
     }
 
 private:

@@ -121,5 +121,46 @@ TEST(SamplerTest, CosineHemisphereDirectionsAreUnitAboveTheNormalWithDensityCosT
     EXPECT_NEAR(dot(up, normalize(Vec3f{1, 2, 3})), 1.0f, 1e-6f);
 }
 
+// Ambient occlusion draws a packet's numbers and directions in loops over arrays (which the
+// compiler vectorises): the same bits as one next_2d() and one sample_cosine_hemisphere() a ray.
+TEST(SamplerTest, NumbersAndDirectionsDrawnTogetherAreTheOnesDrawnOneByOne) {
+    for (const int before : {0, 1, 6}) {  // a fresh sampler, and ones that have drawn already
+        for (const int count : {1, 3, 16}) {
+            Sampler one_by_one(1234, 5), together(1234, 5);
+            for (int i = 0; i < before; ++i) {
+                one_by_one.next_1d();
+                together.next_1d();
+            }
+            float u0[16], u1[16];
+            together.next_2d_n(count, u0, u1);
+            for (int i = 0; i < count; ++i) {
+                const Vec2f u = one_by_one.next_2d();
+                EXPECT_EQ(u0[i], u.x) << before << " drawn before, number " << i << " of " << count;
+                EXPECT_EQ(u1[i], u.y) << before << " drawn before, number " << i << " of " << count;
+            }
+            // And on from there, the same numbers again.
+            EXPECT_EQ(together.next_1d(), one_by_one.next_1d());
+        }
+    }
+    Sampler sampler(7, 0);
+    for (const Vec3f normal : {Vec3f{0, 0, 1}, Vec3f{0, 0, -1}, Vec3f{1, 0, 0}, Vec3f{0, -1, 0},
+                               normalize(Vec3f{0.3f, -0.5f, 0.8f}), normalize(Vec3f{-0.2f, 0.1f, -0.97f}),
+                               normalize(Vec3f{1e-3f, -1, 1e-4f})}) {
+        float u0[16], u1[16], x[16], y[16], z[16];
+        for (int round = 0; round < 200; ++round) {
+            sampler.next_2d_n(16, u0, u1);
+            if (round == 0) u0[0] = 0;  // straight along the normal
+            if (round == 0) u1[1] = 0.75f;  // a quarter turn exactly
+            sample_cosine_hemisphere_n(HemisphereBasis(normal), 16, u0, u1, x, y, z);
+            for (int i = 0; i < 16; ++i) {
+                const Vec3f d = sample_cosine_hemisphere(normal, {u0[i], u1[i]});
+                ASSERT_EQ(x[i], d.x) << "lane " << i << ", u (" << u0[i] << ", " << u1[i] << ")";
+                ASSERT_EQ(y[i], d.y) << "lane " << i;
+                ASSERT_EQ(z[i], d.z) << "lane " << i;
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace raycast
