@@ -90,24 +90,13 @@ struct HemisphereBasis {
     }
 };
 
-/// A direction about the unit `normal` with density cos θ / π (the cosine-weighted hemisphere),
-/// from u in [0, 1)²: Malley's method, a uniform point on the disk (r = √u₀, φ = 2πu₁) lifted to
-/// the hemisphere, in the orthonormal basis of Duff et al. (2017) around the normal.
-inline Vec3f sample_cosine_hemisphere(const HemisphereBasis& basis, Vec2f u) {
-    const float r = std::sqrt(u.x);
-    float sin_phi, cos_phi;
-    sincos_of_turns(u.y, sin_phi, cos_phi);
-    const float x = r * cos_phi, y = r * sin_phi;
-    const float z = std::sqrt(std::fmax(0.0f, 1 - u.x));
-    return basis.tangent * x + basis.bitangent * y + basis.normal * z;
-}
-
-inline Vec3f sample_cosine_hemisphere(Vec3f normal, Vec2f u) { return sample_cosine_hemisphere(HemisphereBasis(normal), u); }
-
-/// sample_cosine_hemisphere for `count` numbers at once, from arrays to arrays (direction i from
-/// u0[i], u1[i]), each direction bit for bit the one call's: the basis found once, and a loop
-/// over independent lanes that the compiler vectorises (an ambient-occlusion hit draws 16).
-/// 1 − u₀ is positive for every u₀ in [0, 1), so the clamp at 0 of the single call is not needed.
+/// Directions about a unit normal with density cos θ / π (the cosine-weighted hemisphere), for
+/// `count` points u in [0, 1)² at once, from arrays to arrays (direction i from u0[i], u1[i]):
+/// Malley's method, a uniform point on the disk (r = √u₀, φ = 2πu₁) lifted to the hemisphere, in
+/// the basis around the normal. A loop over independent lanes, which the compiler vectorises (an
+/// ambient-occlusion hit draws 16); one direction is the same loop with one lane, and so the same
+/// bits. z = √(1 − u₀) is clamped at 0 by a comparison, not std::fmax, which would not vectorise:
+/// the two agree for every value of 1 − u₀ (NaN included; −0 cannot arise from 1 − u₀).
 inline void sample_cosine_hemisphere_n(const HemisphereBasis& basis, int count, const float* u0, const float* u1,
                                        float* x_out, float* y_out, float* z_out) {
     for (int i = 0; i < count; ++i) {
@@ -115,11 +104,19 @@ inline void sample_cosine_hemisphere_n(const HemisphereBasis& basis, int count, 
         float sin_phi, cos_phi;
         sincos_of_turns(u1[i], sin_phi, cos_phi);
         const float x = r * cos_phi, y = r * sin_phi;
-        const float z = std::sqrt(1 - u0[i]);
+        const float rest = 1 - u0[i];
+        const float z = std::sqrt(rest > 0 ? rest : 0.0f);
         x_out[i] = basis.tangent.x * x + basis.bitangent.x * y + basis.normal.x * z;
         y_out[i] = basis.tangent.y * x + basis.bitangent.y * y + basis.normal.y * z;
         z_out[i] = basis.tangent.z * x + basis.bitangent.z * y + basis.normal.z * z;
     }
+}
+
+/// One direction of sample_cosine_hemisphere_n about the unit `normal`, from u in [0, 1)².
+inline Vec3f sample_cosine_hemisphere(Vec3f normal, Vec2f u) {
+    Vec3f direction;
+    sample_cosine_hemisphere_n(HemisphereBasis(normal), 1, &u.x, &u.y, &direction.x, &direction.y, &direction.z);
+    return direction;
 }
 
 /// The random numbers an integrator draws while it traces one camera sample (directions for
@@ -132,8 +129,8 @@ public:
         : pixel_index_(pixel_index), sample_index_(static_cast<uint32_t>(sample_index)) {}
 
     float next_1d() {
-        if (index_ == 0) seed_ = hash32(pixel_index_ * 0x85ebca6bU ^ hash32(sample_index_ + 0x27d4eb2fU));
-        return unit_float(hash32(seed_ ^ hash32(index_++ * 0x9e3779b9U + 0x165667b1U)));
+        find_seed();
+        return number(index_++);
     }
     Vec2f next_2d() {
         const float u = next_1d();
@@ -143,17 +140,22 @@ public:
     /// independent hashes, in a loop the compiler vectorises.
     void next_2d_n(int count, float* u0, float* u1) {
         if (count <= 0) return;
-        if (index_ == 0) seed_ = hash32(pixel_index_ * 0x85ebca6bU ^ hash32(sample_index_ + 0x27d4eb2fU));
+        find_seed();
         const uint32_t first = index_;
         for (int i = 0; i < count; ++i) {
-            const uint32_t k = first + 2 * static_cast<uint32_t>(i);
-            u0[i] = unit_float(hash32(seed_ ^ hash32(k * 0x9e3779b9U + 0x165667b1U)));
-            u1[i] = unit_float(hash32(seed_ ^ hash32((k + 1) * 0x9e3779b9U + 0x165667b1U)));
+            u0[i] = number(first + 2 * static_cast<uint32_t>(i));
+            u1[i] = number(first + 2 * static_cast<uint32_t>(i) + 1);
         }
         index_ = first + 2 * static_cast<uint32_t>(count);
     }
 
 private:
+    void find_seed() {
+        if (index_ == 0) seed_ = hash32(pixel_index_ * 0x85ebca6bU ^ hash32(sample_index_ + 0x27d4eb2fU));
+    }
+    // Number `index` of this camera sample.
+    float number(uint32_t index) const { return unit_float(hash32(seed_ ^ hash32(index * 0x9e3779b9U + 0x165667b1U))); }
+
     uint32_t pixel_index_, sample_index_;
     uint32_t seed_ = 0;
     uint32_t index_ = 0;

@@ -121,8 +121,24 @@ TEST(SamplerTest, CosineHemisphereDirectionsAreUnitAboveTheNormalWithDensityCosT
     EXPECT_NEAR(dot(up, normalize(Vec3f{1, 2, 3})), 1.0f, 1e-6f);
 }
 
+// Malley's method in the basis of Duff et al., written out term by term in the order of
+// sample_cosine_hemisphere's sums (and with std::fmax for the clamp): the directions' reference.
+Vec3f cosine_hemisphere_by_the_formula(Vec3f n, Vec2f u) {
+    const float r = std::sqrt(u.x);
+    float sin_phi, cos_phi;
+    sincos_of_turns(u.y, sin_phi, cos_phi);
+    const float x = r * cos_phi, y = r * sin_phi;
+    const float z = std::sqrt(std::fmax(0.0f, 1 - u.x));
+    const float sign = std::copysign(1.0f, n.z);
+    const float a = -1 / (sign + n.z);
+    const float b = n.x * n.y * a;
+    const Vec3f tangent{1 + sign * n.x * n.x * a, sign * b, -sign * n.x};
+    const Vec3f bitangent{b, sign + n.y * n.y * a, -n.y};
+    return tangent * x + bitangent * y + n * z;
+}
+
 // Ambient occlusion draws a packet's numbers and directions in loops over arrays (which the
-// compiler vectorises): the same bits as one next_2d() and one sample_cosine_hemisphere() a ray.
+// compiler vectorises): the same bits as one next_2d() a ray, and as the formula written out.
 TEST(SamplerTest, NumbersAndDirectionsDrawnTogetherAreTheOnesDrawnOneByOne) {
     for (const int before : {0, 1, 6}) {  // a fresh sampler, and ones that have drawn already
         for (const int count : {1, 3, 16}) {
@@ -151,12 +167,16 @@ TEST(SamplerTest, NumbersAndDirectionsDrawnTogetherAreTheOnesDrawnOneByOne) {
             sampler.next_2d_n(16, u0, u1);
             if (round == 0) u0[0] = 0;  // straight along the normal
             if (round == 0) u1[1] = 0.75f;  // a quarter turn exactly
+            if (round == 0) u0[2] = 1.0f;   // 1 − u₀ = 0, and below it the clamp (outside [0, 1))
+            if (round == 0) u0[3] = 1.5f;
             sample_cosine_hemisphere_n(HemisphereBasis(normal), 16, u0, u1, x, y, z);
             for (int i = 0; i < 16; ++i) {
-                const Vec3f d = sample_cosine_hemisphere(normal, {u0[i], u1[i]});
+                const Vec3f d = cosine_hemisphere_by_the_formula(normal, {u0[i], u1[i]});
                 ASSERT_EQ(x[i], d.x) << "lane " << i << ", u (" << u0[i] << ", " << u1[i] << ")";
                 ASSERT_EQ(y[i], d.y) << "lane " << i;
                 ASSERT_EQ(z[i], d.z) << "lane " << i;
+                const Vec3f one = sample_cosine_hemisphere(normal, {u0[i], u1[i]});  // a loop of one lane
+                ASSERT_TRUE(one.x == d.x && one.y == d.y && one.z == d.z) << "lane " << i;
             }
         }
     }
