@@ -181,11 +181,21 @@ JsonValue json_of(const std::string& text) {
     return value;
 }
 
+// The server's /status, read now.
+JsonValue status_now(int port) { return json_of(get(port, "/status").body); }
+
+// kScene with a red background instead of its blue one: an edit that changes the image.
+std::string scene_with_red_background() {
+    std::string scene = kScene;
+    scene.replace(scene.find("color 0.2 0.3 0.5"), 17, "color 0.9 0.1 0.1");
+    return scene;
+}
+
 // Polls /status until its version exceeds `after` (at most 20 s).
 JsonValue wait_for_version_after(int port, double after) {
     const auto start = std::chrono::steady_clock::now();
     for (;;) {
-        const JsonValue status = json_of(get(port, "/status").body);
+        const JsonValue status = status_now(port);
         if (status.has("version") && status["version"].number > after) return status;
         if (std::chrono::steady_clock::now() - start > std::chrono::seconds(20)) {
             ADD_FAILURE() << "the viewer did not reload";
@@ -253,7 +263,7 @@ TEST_F(ViewTest, ImageAndExplainAreWhatTheCommandLineGives) {
 TEST_F(ViewTest, StatusTellsTheVersionCameraAndDefaults) {
     const std::string dir = scene_dir("status");
     Viewer viewer(dir, "s.txt --bounces 3 --shadows");
-    const JsonValue status = json_of(get(viewer.port(), "/status").body);
+    const JsonValue status = status_now(viewer.port());
     EXPECT_EQ(status["version"].number, 1);
     EXPECT_EQ(status["loaded"].boolean, true);
     EXPECT_EQ(status["scene"].string, "s.txt");
@@ -275,8 +285,7 @@ TEST_F(ViewTest, EditingTheSceneReloadsItAndATypoKeepsTheLastGoodImage) {
     const std::string before = get(viewer.port(), "/image").body;
     ASSERT_FALSE(before.empty());
     // A new background colour: a new version, and the image the CLI makes of the new file.
-    std::string scene = kScene;
-    scene.replace(scene.find("color 0.2 0.3 0.5"), 17, "color 0.9 0.1 0.1");
+    const std::string scene = scene_with_red_background();
     write_file(dir + "/s.txt", scene);
     JsonValue status = wait_for_version_after(viewer.port(), 1);
     EXPECT_TRUE(status["errors"].array.empty());
@@ -320,20 +329,19 @@ TEST_F(ViewTest, EditingTheSceneReloadsItAndATypoKeepsTheLastGoodImage) {
 TEST_F(ViewTest, ASaveWrittenInStepsIsReadOnceWhenTheWriterClosesIt) {
     const std::string dir = scene_dir("slow_save");
     Viewer viewer(dir, "s.txt");
-    const double version = json_of(get(viewer.port(), "/status").body)["version"].number;
-    std::string scene = kScene;
-    scene.replace(scene.find("color 0.2 0.3 0.5"), 17, "color 0.9 0.1 0.1");
+    const double version = status_now(viewer.port())["version"].number;
+    const std::string scene = scene_with_red_background();
     const size_t half = scene.find("Group");
     {
         std::ofstream out(dir + "/s.txt", std::ios::trunc);  // empty from here
         ASSERT_TRUE(out);
         std::this_thread::sleep_for(std::chrono::milliseconds(300));
-        JsonValue status = json_of(get(viewer.port(), "/status").body);
+        JsonValue status = status_now(viewer.port());
         EXPECT_EQ(status["version"].number, version) << "the viewer read the file while it was empty";
         EXPECT_TRUE(status["errors"].array.empty());
         out << scene.substr(0, half) << std::flush;  // the camera and materials, no objects yet
         std::this_thread::sleep_for(std::chrono::milliseconds(300));
-        status = json_of(get(viewer.port(), "/status").body);
+        status = status_now(viewer.port());
         EXPECT_EQ(status["version"].number, version) << "the viewer read the file while it was half written";
         EXPECT_TRUE(status["errors"].array.empty());
         out << scene.substr(half);
@@ -345,7 +353,7 @@ TEST_F(ViewTest, ASaveWrittenInStepsIsReadOnceWhenTheWriterClosesIt) {
     EXPECT_TRUE(get(viewer.port(), "/image").body == read_file(dir + "/new" + image_extension()));
     // Nothing more to read: past the 200 ms look, the version stays.
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
-    EXPECT_EQ(json_of(get(viewer.port(), "/status").body)["version"].number, version + 1);
+    EXPECT_EQ(status_now(viewer.port())["version"].number, version + 1);
 }
 
 // A writer that keeps the file open is not waited for past two seconds: what it has written by
@@ -353,9 +361,8 @@ TEST_F(ViewTest, ASaveWrittenInStepsIsReadOnceWhenTheWriterClosesIt) {
 TEST_F(ViewTest, AFileKeptOpenByItsWriterIsReadAfterTwoSeconds) {
     const std::string dir = scene_dir("kept_open");
     Viewer viewer(dir, "s.txt");
-    const double version = json_of(get(viewer.port(), "/status").body)["version"].number;
-    std::string scene = kScene;
-    scene.replace(scene.find("color 0.2 0.3 0.5"), 17, "color 0.9 0.1 0.1");
+    const double version = status_now(viewer.port())["version"].number;
+    const std::string scene = scene_with_red_background();
     std::ofstream out(dir + "/s.txt", std::ios::trunc);
     ASSERT_TRUE(out);
     out << scene << std::flush;
@@ -368,7 +375,7 @@ TEST_F(ViewTest, AFileKeptOpenByItsWriterIsReadAfterTwoSeconds) {
     EXPECT_GE(waited_ms, 1500) << "read before the writer's time was up";
     out.close();
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
-    EXPECT_EQ(json_of(get(viewer.port(), "/status").body)["version"].number, version + 1);
+    EXPECT_EQ(status_now(viewer.port())["version"].number, version + 1);
 }
 
 TEST_F(ViewTest, BadQueryValuesAreAnsweredFourHundredWithTheReason) {
