@@ -8,7 +8,8 @@
 // std::threads that claim 64x64 tiles:
 //   - primary rays, closest hit: rtcIntersect1 one ray at a time, rtcIntersect16 over 4x4 blocks;
 //   - ambient-occlusion rays, any hit: from each primary hit, --ao-rays (16) cosine-distributed
-//     directions about the geometric normal (facing the camera), from the hit point moved off the
+//     directions about the geometric normal (facing the camera), drawn as raycast's --mode ao
+//     draws them (a hit's directions together, in vector loops), from the hit point moved off the
 //     surface as raycast moves shadow-ray origins, up to a tenth of the scene box's diagonal;
 //     rtcOccluded1 one at a time, rtcOccluded16 the rays of one hit together. The "all rays"
 //     figure counts primary and AO rays over the time of both passes.
@@ -64,6 +65,8 @@ using namespace raycast;
 // tiles larger than 16: on this benchmark's machine Embree's 1M figures were 1.03-1.09x higher
 // with 64 than with 16, raycast's renders 1.04-1.12x.
 constexpr int kTile = 64;
+// The most AO rays a hit may have (--ao-rays).
+constexpr int kMaxAoRays = 64;
 
 struct Options {
     std::string scene_path;
@@ -102,7 +105,7 @@ Options parse_options(int argc, char** argv) {
             if (options.repeat < 1) usage("--repeat needs a positive number");
         } else if (arg == "--ao-rays" && has_value) {
             options.ao_rays = std::atoi(argv[++i]);
-            if (options.ao_rays < 1 || options.ao_rays > 64) usage("--ao-rays needs a number from 1 to 64");
+            if (options.ao_rays < 1 || options.ao_rays > kMaxAoRays) usage("--ao-rays needs a number from 1 to 64");
         } else if (arg == "--paired" && has_value) {
             options.paired = std::atoi(argv[++i]);
             if (options.paired < 1) usage("--paired needs a positive number of pairs");
@@ -269,16 +272,24 @@ void for_each_block(int x0, int y0, int x1, int y1, int lanes, int packets, Bloc
 
 // Ambient-occlusion rays: the same distribution for both tracers
 
-// Ray i of pixel `pixel`'s hit at `position` with unit normal `normal` (facing the viewer), as
-// raycast's --mode ao draws them (render/integrators.cpp): a cosine-distributed direction from
-// sample_cosine_hemisphere with the numbers of raycast's Sampler, starting at the hit moved off
-// the surface by offset_ray_origin. `travel_scale` is ray_travel_scale of the camera ray: what
-// raycast's hit_travel_scale gives for the bench's meshes, whose corners (within about 1.1 of the
-// origin) are smaller than the camera ray's travel.
-Ray ao_ray(Vec3f position, Vec3f normal, float travel_scale, uint32_t pixel, int i) {
-    Sampler sampler(pixel, i);
-    const Vec3f direction = sample_cosine_hemisphere(normal, sampler.next_2d());
-    return {offset_ray_origin(position, normal, direction, travel_scale), direction};
+// The `count` AO rays (at most kMaxAoRays) of pixel `pixel`'s hit at `position` with unit normal
+// `normal` (facing the viewer), drawn as raycast's --mode ao draws them
+// (ambient_occlusion_radiance, render/integrators.cpp), for both tracers alike: the numbers of
+// camera sample 0's Sampler, the directions made together by sample_cosine_hemisphere_n (vector
+// loops), each ray starting at the hit moved off the surface by offset_ray_origin_by.
+// `travel_scale` is ray_travel_scale of the camera ray: what raycast's hit_travel_scale gives for
+// the bench's meshes, whose corners (within about 1.1 of the origin) are smaller than the camera
+// ray's travel.
+void ao_rays_of_hit(Vec3f position, Vec3f normal, float travel_scale, uint32_t pixel, int count, Ray* rays) {
+    float u0[kMaxAoRays], u1[kMaxAoRays], dx[kMaxAoRays], dy[kMaxAoRays], dz[kMaxAoRays];
+    Sampler sampler(pixel, 0);
+    sampler.next_2d_n(count, u0, u1);
+    sample_cosine_hemisphere_n(HemisphereBasis(normal), count, u0, u1, dx, dy, dz);
+    const float offset = ray_offset_distance(position, travel_scale);
+    for (int i = 0; i < count; ++i) {
+        const Vec3f direction{dx[i], dy[i], dz[i]};
+        rays[i] = {offset_ray_origin_by(position, normal, direction, offset), direction};
+    }
 }
 
 // A unit normal turned to face where the ray came from.
@@ -358,9 +369,11 @@ struct EmbreePasses {
                     const Vec3f normal = facing({rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z}, ray);
                     const float travel = ray_travel_scale(ray.origin, ray.direction, rh.ray.tfar);
                     const uint32_t pixel = static_cast<uint32_t>(y * camera.width + x);
+                    Ray probes[kMaxAoRays];
+                    ao_rays_of_hit(position, normal, travel, pixel, ao_rays, probes);
                     for (int i = 0; i < ao_rays; ++i) {
                         RTCRay shadow;
-                        init_ray(shadow, ao_ray(position, normal, travel, pixel, i), 0, ao_length);
+                        init_ray(shadow, probes[i], 0, ao_length);
                         rtcOccluded1(scene, &contexts.incoherent, &shadow);
                     }
                     counter.rays += static_cast<uint64_t>(ao_rays);
@@ -395,12 +408,14 @@ struct EmbreePasses {
                     const Vec3f normal = facing({rh.hit.Ng_x[lane], rh.hit.Ng_y[lane], rh.hit.Ng_z[lane]}, ray);
                     const float travel = ray_travel_scale(ray.origin, ray.direction, rh.ray.tfar[lane]);
                     const uint32_t pixel = static_cast<uint32_t>(ys[lane] * camera.width + xs[lane]);
+                    Ray probes[kMaxAoRays];
+                    ao_rays_of_hit(position, normal, travel, pixel, ao_rays, probes);
                     for (int first = 0; first < ao_rays; first += 16) {
                         alignas(64) int ao_valid[16];
                         for (int i = 0; i < 16; ++i) {
                             const bool live = first + i < ao_rays;
                             ao_valid[i] = live ? -1 : 0;
-                            init_ray16(shadow, i, ao_ray(position, normal, travel, pixel, live ? first + i : first), 0, ao_length);
+                            init_ray16(shadow, i, probes[live ? first + i : first], 0, ao_length);
                         }
                         rtcOccluded16(ao_valid, scene, &contexts.incoherent, &shadow);
                     }
@@ -448,7 +463,9 @@ struct RaycastPasses {
                         continue;
                     }
                     const uint32_t pixel = static_cast<uint32_t>(y * camera.width + x);
-                    for (int i = 0; i < ao_rays; ++i) occluded(scene, ao_ray(surface.position, normal, travel, pixel, i), 0, ao_length);
+                    Ray probes[kMaxAoRays];
+                    ao_rays_of_hit(surface.position, normal, travel, pixel, ao_rays, probes);
+                    for (int i = 0; i < ao_rays; ++i) occluded(scene, probes[i], 0, ao_length);
                     counter.rays += static_cast<uint64_t>(ao_rays);
                 }
         });
@@ -489,14 +506,11 @@ struct RaycastPasses {
                             continue;
                         }
                         const uint32_t pixel = static_cast<uint32_t>(ys[k] * camera.width + xs[k]);
-                        for (int i0 = 0; i0 < ao_rays; i0 += lanes) {
-                            const int n = std::min(lanes, ao_rays - i0);
-                            for (int i = 0; i < n; ++i) {
-                                extra_rays[i] = ao_ray(surface.position, normal, travel, pixel, i0 + i);
-                                t_max[i] = ao_length;
-                            }
-                            tracer.occluded(extra_rays, n, 0, t_max, blocked);
-                        }
+                        Ray probes[kMaxAoRays];
+                        ao_rays_of_hit(surface.position, normal, travel, pixel, ao_rays, probes);
+                        for (int i = 0; i < lanes; ++i) t_max[i] = ao_length;
+                        for (int i0 = 0; i0 < ao_rays; i0 += lanes)
+                            tracer.occluded(probes + i0, std::min(lanes, ao_rays - i0), 0, t_max, blocked);
                         counter.rays += static_cast<uint64_t>(ao_rays);
                     }
                     if (shadows > 0) {
