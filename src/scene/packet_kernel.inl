@@ -155,6 +155,46 @@ inline WatertightPacket make_watertight_packet(const PacketRays& r, const AxisSe
     return w;
 }
 
+// The watertight test's constants lane by lane, for rays whose permutations differ (a hit's
+// ambient-occlusion rays leave one point in every direction): each lane's kx, ky and kz as the
+// masks of the lanes where that axis is y or z, and make_watertight_packet's values in each lane
+// for the lane's own set. A group's vertices are then sheared once for all the lanes
+// (shear_vertices_lanes) rather than once per set, and its triangles tested once: a lane selects
+// its own coordinates, which is exact, so every value is the one its set's shear gives.
+struct WatertightLanes {
+    VM kx_y, kx_z, ky_y, ky_z, kz_y, kz_z;
+    VF sx, sy, sz;
+    VF okx, oky, okz;
+};
+
+// Each lane's x, y or z: z where is_z, y where is_y, else x.
+inline VF pick_lanes(VF x, VF y, VF z, VM is_y, VM is_z) { return select(is_z, z, select(is_y, y, x)); }
+
+inline WatertightLanes make_watertight_lanes(const PacketRays& r, const AxisSet* sets, int count) {
+    unsigned axis_is[3][3] = {};  // axis_is[role][axis]: the lanes whose kx (0), ky (1), kz (2) is axis
+    for (int i = 0; i < count; ++i) {
+        const unsigned lanes = bits(sets[i].lanes);
+        axis_is[0][sets[i].kx] |= lanes;
+        axis_is[1][sets[i].ky] |= lanes;
+        axis_is[2][sets[i].kz] |= lanes;
+    }
+    WatertightLanes w;
+    w.kx_y = mask_from_bits(axis_is[0][1]);
+    w.kx_z = mask_from_bits(axis_is[0][2]);
+    w.ky_y = mask_from_bits(axis_is[1][1]);
+    w.ky_z = mask_from_bits(axis_is[1][2]);
+    w.kz_y = mask_from_bits(axis_is[2][1]);
+    w.kz_z = mask_from_bits(axis_is[2][2]);
+    const VF dkz = pick_lanes(r.dx, r.dy, r.dz, w.kz_y, w.kz_z);
+    w.sx = pick_lanes(r.dx, r.dy, r.dz, w.kx_y, w.kx_z) / dkz;
+    w.sy = pick_lanes(r.dx, r.dy, r.dz, w.ky_y, w.ky_z) / dkz;
+    w.sz = splat(1.0f) / dkz;
+    w.okx = pick_lanes(r.ox, r.oy, r.oz, w.kx_y, w.kx_z);
+    w.oky = pick_lanes(r.ox, r.oy, r.oz, w.ky_y, w.ky_z);
+    w.okz = pick_lanes(r.ox, r.oy, r.oz, w.kz_y, w.kz_z);
+    return w;
+}
+
 inline VF cull_distance_v(VF t_best) { return t_best + vabs(t_best) * splat(1.0f / 1024); }
 
 // The slab test in every lane, widened like intersect_box so that it never misses.
@@ -651,6 +691,22 @@ inline void shear_vertices(const unsigned char* group, const WatertightPacket& w
     }
 }
 
+// shear_vertices with each lane's own permutation: the same values, lane by lane.
+inline void shear_vertices_lanes(const unsigned char* group, const WatertightLanes& w, ShearedVertices& out) {
+    const uint32_t k = group[0], v = group[1];
+    const unsigned char* planes = group + group_vertices_offset(k);
+    for (uint32_t j = 0; j < v; ++j) {
+        const VF x = splat(group_float(planes + 4 * j)), y = splat(group_float(planes + 4 * (v + j))),
+                 z = splat(group_float(planes + 4 * (2 * v + j)));
+        const VF a_kx = pick_lanes(x, y, z, w.kx_y, w.kx_z) - w.okx;
+        const VF a_ky = pick_lanes(x, y, z, w.ky_y, w.ky_z) - w.oky;
+        const VF a_kz = pick_lanes(x, y, z, w.kz_y, w.kz_z) - w.okz;
+        out.x[j] = a_kx - w.sx * a_kz;
+        out.y[j] = a_ky - w.sy * a_kz;
+        out.z[j] = w.sz * a_kz;
+    }
+}
+
 // The watertight test of intersect_triangle, term for term, in every lane, for triangle `lane`
 // of a group whose vertices are sheared. Returns the lanes (of `live`) that hit with t > t_min.
 struct TriangleLanes {
@@ -803,39 +859,46 @@ inline void mark_blocked(PacketRays& r, VM now_blocked, bool* blocked) {
 // Any hits nearer than t_max of the rays of r.live with one mesh, each blocked ray marked and
 // taken out of r.live. The rays walk the BVH together with the fastest slab test they allow,
 // children in slot order (an any-hit query), so a node's box tests serve every ray that goes near
-// it; at a leaf, the rays that reached it are tested against its triangles in sets that share a
-// watertight permutation, each set with the group's vertices sheared for it. Rays that go one way
-// (shadow rays towards one light) are one set; a hit's ambient-occlusion rays, which leave one
-// point in every direction, up to six, but only one or two at most leaves, whose rays arrive from
-// nearby directions. The lanes of `skip_back_faces` pass over the children whose triangles all
+// it; at a leaf, the rays that reached it are tested against its triangles together, each lane
+// with its own watertight permutation. Rays that go one way (shadow rays towards one light) share
+// one; a hit's ambient-occlusion rays, which leave one point in every direction, have up to six,
+// and each lane selects its own (WatertightLanes). The lanes of `skip_back_faces` pass over the children whose triangles all
 // face away from them (mesh.cones, scene/back_faces.h), with faces_away's arithmetic.
 inline void occluded_mesh_packet(PacketRays& r, const MeshView& mesh, float t_min, VF t_max, VF t_cull,
                                  bool* blocked, VM skip_back_faces) {
     AxisSet axes[6];
     const int set_count = axis_sets(r, axes);
-    WatertightPacket sets[6];
-    for (int i = 0; i < set_count; ++i) sets[i] = make_watertight_packet(r, axes[i]);
+    // One set (shadow rays towards a light): its shear, with one permutation for every lane.
+    // Several (a hit's AO rays): each lane's own, so that a leaf's groups are sheared and tested
+    // once for all the rays that reached it.
+    WatertightPacket one_set;
+    WatertightLanes per_lane;
+    if (set_count == 1)
+        one_set = make_watertight_packet(r, axes[0]);
+    else
+        per_lane = make_watertight_lanes(r, axes, set_count);
     ShearedVertices sheared;
     const VF t_min_v = splat(t_min);
     auto visit_leaf = [&](uint32_t first_block, VM reached) {
-        for (int i = 0; i < set_count; ++i) {
-            VM lanes = reached & sets[i].lanes;
-            for (uint32_t block = first_block; any(lanes);) {
-                const unsigned char* group = mesh.groups[block].bytes;
-                shear_vertices(group, sets[i], sheared);
-                for (unsigned inside = triangles_inside(group, sheared, lanes); inside; inside &= inside - 1) {
-                    const uint32_t lane = lowest_bit(inside);
-                    const TriangleLanes h = test_triangle_packet(group, lane, sheared, lanes, t_min_v);
-                    if (!any(h.hit)) continue;
-                    const VM now_blocked = h.hit & (h.t < t_max);
-                    if (!any(now_blocked)) continue;
-                    mark_blocked(r, now_blocked, blocked);
-                    lanes = andnot(lanes, now_blocked);
-                    if (!any(lanes)) break;
-                }
-                if (group[2] & kGroupEndsLeaf) break;
-                block += group_blocks(group[0], group[1]);
+        VM lanes = reached & r.live;
+        for (uint32_t block = first_block; any(lanes);) {
+            const unsigned char* group = mesh.groups[block].bytes;
+            if (set_count == 1)
+                shear_vertices(group, one_set, sheared);
+            else
+                shear_vertices_lanes(group, per_lane, sheared);
+            for (unsigned inside = triangles_inside(group, sheared, lanes); inside; inside &= inside - 1) {
+                const uint32_t lane = lowest_bit(inside);
+                const TriangleLanes h = test_triangle_packet(group, lane, sheared, lanes, t_min_v);
+                if (!any(h.hit)) continue;
+                const VM now_blocked = h.hit & (h.t < t_max);
+                if (!any(now_blocked)) continue;
+                mark_blocked(r, now_blocked, blocked);
+                lanes = andnot(lanes, now_blocked);
+                if (!any(lanes)) break;
             }
+            if (group[2] & kGroupEndsLeaf) break;
+            block += group_blocks(group[0], group[1]);
         }
         return !any(r.live);
     };
