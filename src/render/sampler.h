@@ -12,7 +12,7 @@
 namespace raycast {
 
 /// A small, well-mixed hash (the "lowbias32" of Chris Wellons' hash prospector).
-inline uint32_t hash32(uint32_t x) {
+constexpr uint32_t hash32(uint32_t x) {
     x ^= x >> 16;
     x *= 0x7feb352dU;
     x ^= x >> 15;
@@ -119,6 +119,26 @@ inline Vec3f sample_cosine_hemisphere(Vec3f normal, Vec2f u) {
     return direction;
 }
 
+/// What Sampler hashes the seed with for its number `index`.
+constexpr uint32_t sampler_index_hash(uint32_t index) { return hash32(index * 0x9e3779b9U + 0x165667b1U); }
+
+/// sampler_index_hash of the first 2·kPairs indices, the even ones and the odd ones apart, made
+/// by the compiler: they do not depend on the pixel or the sample, so Sampler::next_2d_n looks
+/// them up instead of hashing each index again (half the hashing of its numbers, the same numbers).
+struct SamplerIndexHashes {
+    static constexpr uint32_t kPairs = 64;
+    uint32_t even[kPairs], odd[kPairs];
+};
+constexpr SamplerIndexHashes make_sampler_index_hashes() {
+    SamplerIndexHashes table{};
+    for (uint32_t i = 0; i < SamplerIndexHashes::kPairs; ++i) {
+        table.even[i] = sampler_index_hash(2 * i);
+        table.odd[i] = sampler_index_hash(2 * i + 1);
+    }
+    return table;
+}
+inline constexpr SamplerIndexHashes kSamplerIndexHashes = make_sampler_index_hashes();
+
 /// The random numbers an integrator draws while it traces one camera sample (directions for
 /// ambient occlusion, paths later): the i-th number of sample s of a pixel is a hash of the three,
 /// independent of the pixel's position offsets and lens point above.
@@ -142,9 +162,18 @@ public:
         if (count <= 0) return;
         find_seed();
         const uint32_t first = index_;
-        for (int i = 0; i < count; ++i) {
-            u0[i] = number(first + 2 * static_cast<uint32_t>(i));
-            u1[i] = number(first + 2 * static_cast<uint32_t>(i) + 1);
+        if (first % 2 == 0 && first / 2 + static_cast<uint32_t>(count) <= SamplerIndexHashes::kPairs) {
+            const uint32_t* even = kSamplerIndexHashes.even + first / 2;
+            const uint32_t* odd = kSamplerIndexHashes.odd + first / 2;
+            for (int i = 0; i < count; ++i) {
+                u0[i] = unit_float(hash32(seed_ ^ even[i]));
+                u1[i] = unit_float(hash32(seed_ ^ odd[i]));
+            }
+        } else {
+            for (int i = 0; i < count; ++i) {
+                u0[i] = number(first + 2 * static_cast<uint32_t>(i));
+                u1[i] = number(first + 2 * static_cast<uint32_t>(i) + 1);
+            }
         }
         index_ = first + 2 * static_cast<uint32_t>(count);
     }
@@ -154,7 +183,7 @@ private:
         if (index_ == 0) seed_ = hash32(pixel_index_ * 0x85ebca6bU ^ hash32(sample_index_ + 0x27d4eb2fU));
     }
     // Number `index` of this camera sample.
-    float number(uint32_t index) const { return unit_float(hash32(seed_ ^ hash32(index * 0x9e3779b9U + 0x165667b1U))); }
+    float number(uint32_t index) const { return unit_float(hash32(seed_ ^ sampler_index_hash(index))); }
 
     uint32_t pixel_index_, sample_index_;
     uint32_t seed_ = 0;
