@@ -42,6 +42,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -105,7 +106,8 @@ Options parse_options(int argc, char** argv) {
             if (options.repeat < 1) usage("--repeat needs a positive number");
         } else if (arg == "--ao-rays" && has_value) {
             options.ao_rays = std::atoi(argv[++i]);
-            if (options.ao_rays < 1 || options.ao_rays > kMaxAoRays) usage("--ao-rays needs a number from 1 to 64");
+            if (options.ao_rays < 1 || options.ao_rays > kMaxAoRays)
+                usage(("--ao-rays needs a number from 1 to " + std::to_string(kMaxAoRays)).c_str());
         } else if (arg == "--paired" && has_value) {
             options.paired = std::atoi(argv[++i]);
             if (options.paired < 1) usage("--paired needs a positive number of pairs");
@@ -276,11 +278,14 @@ void for_each_block(int x0, int y0, int x1, int y1, int lanes, int packets, Bloc
 // `normal` (facing the viewer), drawn as raycast's --mode ao draws them
 // (ambient_occlusion_radiance, render/integrators.cpp), for both tracers alike: the numbers of
 // camera sample 0's Sampler, the directions made together by sample_cosine_hemisphere_n (vector
-// loops), each ray starting at the hit moved off the surface by offset_ray_origin_by.
+// loops), each ray starting at the hit moved off the surface by offset_ray_origin_by (along
+// `normal`, to the side of the ray; --mode ao moves it along the geometric normal, the same line
+// on the bench's meshes, which have no vertex normals).
 // `travel_scale` is ray_travel_scale of the camera ray: what raycast's hit_travel_scale gives for
 // the bench's meshes, whose corners (within about 1.1 of the origin) are smaller than the camera
 // ray's travel.
 void ao_rays_of_hit(Vec3f position, Vec3f normal, float travel_scale, uint32_t pixel, int count, Ray* rays) {
+    if (count < 1 || count > kMaxAoRays) throw std::logic_error("ao_rays_of_hit: count outside 1..kMaxAoRays");
     float u0[kMaxAoRays], u1[kMaxAoRays], dx[kMaxAoRays], dy[kMaxAoRays], dz[kMaxAoRays];
     Sampler sampler(pixel, 0);
     sampler.next_2d_n(count, u0, u1);

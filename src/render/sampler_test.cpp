@@ -142,7 +142,7 @@ Vec3f cosine_hemisphere_by_the_formula(Vec3f n, Vec2f u) {
 TEST(SamplerTest, NumbersAndDirectionsDrawnTogetherAreTheOnesDrawnOneByOne) {
     // A fresh sampler, and ones that have drawn already: next_2d_n looks up the indices' hashes
     // for its first 128 numbers from an even index (kSamplerIndexHashes), and hashes them past
-    // that (112 drawn before) and from an odd index (1, 127).
+    // that (112 drawn before, then 16 drawn together) and from an odd index (1, 127).
     for (const int before : {0, 1, 6, 96, 112, 127}) {
         for (const int count : {1, 3, 16}) {
             Sampler one_by_one(1234, 5), together(1234, 5);
