@@ -352,9 +352,9 @@ Vec3f ambient_occlusion_radiance(const Integrator& integrator, const Ray& ray, c
         context.counts->occlusion += static_cast<uint64_t>(count);
         // The packet's directions together (the numbers, then the directions, each a loop over
         // independent lanes), then its rays.
-        float u0[kMaxPacketLanes], u1[kMaxPacketLanes], dx[kMaxPacketLanes], dy[kMaxPacketLanes], dz[kMaxPacketLanes];
-        context.sampler->next_2d_n(count, u0, u1);
-        sample_cosine_hemisphere_n(basis, count, u0, u1, dx, dy, dz);
+        static_assert(kMaxPacketLanes <= kMaxDirectionsAtOnce, "a packet's directions are drawn at once");
+        float dx[kMaxPacketLanes], dy[kMaxPacketLanes], dz[kMaxPacketLanes];
+        draw_cosine_directions(*context.sampler, basis, count, dx, dy, dz);
         Ray probes[kMaxPacketLanes];
         float t_max[kMaxPacketLanes];
         bool blocked[kMaxPacketLanes];

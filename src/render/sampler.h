@@ -190,4 +190,13 @@ private:
     uint32_t index_ = 0;
 };
 
+/// The most directions draw_cosine_directions draws at once.
+constexpr int kMaxDirectionsAtOnce = 16;
+
+/// `count` (at most kMaxDirectionsAtOnce) cosine-distributed directions about `basis` from the
+/// sampler's next `count` pairs of numbers: next_2d_n, then sample_cosine_hemisphere_n, the same
+/// bits. Built for AVX2 as well where the compiler can (sampler.cpp).
+void draw_cosine_directions(Sampler& sampler, const HemisphereBasis& basis, int count, float* x_out, float* y_out,
+                            float* z_out);
+
 }  // namespace raycast

@@ -185,5 +185,29 @@ TEST(SamplerTest, NumbersAndDirectionsDrawnTogetherAreTheOnesDrawnOneByOne) {
     }
 }
 
+// draw_cosine_directions is built for AVX2 as well as the baseline (sampler.cpp); whichever copy
+// this machine runs, its directions are the formula's, bit for bit, for every count a packet
+// draws and from fresh and used samplers.
+TEST(SamplerTest, DirectionsDrawnByEitherBuildAreTheFormulas) {
+    const Vec3f normals[] = {Vec3f{0, 0, 1}, Vec3f{0, -1, 0}, normalize(Vec3f{0.3f, -0.5f, 0.8f}),
+                             normalize(Vec3f{-0.2f, 0.1f, -0.97f})};
+    for (const Vec3f normal : normals) {
+        for (int count = 1; count <= kMaxDirectionsAtOnce; ++count) {
+            for (uint32_t pixel = 0; pixel < 40; ++pixel) {
+                Sampler drawing(pixel, 3), reference(pixel, 3);
+                for (int round = 0; round < 3; ++round) {
+                    float x[kMaxDirectionsAtOnce], y[kMaxDirectionsAtOnce], z[kMaxDirectionsAtOnce];
+                    draw_cosine_directions(drawing, HemisphereBasis(normal), count, x, y, z);
+                    for (int i = 0; i < count; ++i) {
+                        const Vec3f d = cosine_hemisphere_by_the_formula(normal, reference.next_2d());
+                        ASSERT_TRUE(x[i] == d.x && y[i] == d.y && z[i] == d.z)
+                            << "count " << count << ", pixel " << pixel << ", round " << round << ", lane " << i;
+                    }
+                }
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace raycast
