@@ -166,8 +166,8 @@ public:
             const uint32_t* even = kSamplerIndexHashes.even + first / 2;
             const uint32_t* odd = kSamplerIndexHashes.odd + first / 2;
             for (int i = 0; i < count; ++i) {
-                u0[i] = unit_float(hash32(seed_ ^ even[i]));
-                u1[i] = unit_float(hash32(seed_ ^ odd[i]));
+                u0[i] = number_of_hash(even[i]);
+                u1[i] = number_of_hash(odd[i]);
             }
         } else {
             for (int i = 0; i < count; ++i) {
@@ -182,8 +182,9 @@ private:
     void find_seed() {
         if (index_ == 0) seed_ = hash32(pixel_index_ * 0x85ebca6bU ^ hash32(sample_index_ + 0x27d4eb2fU));
     }
-    // Number `index` of this camera sample.
-    float number(uint32_t index) const { return unit_float(hash32(seed_ ^ sampler_index_hash(index))); }
+    // Number `index` of this camera sample, from its index's hash (sampler_index_hash).
+    float number_of_hash(uint32_t index_hash) const { return unit_float(hash32(seed_ ^ index_hash)); }
+    float number(uint32_t index) const { return number_of_hash(sampler_index_hash(index)); }
 
     uint32_t pixel_index_, sample_index_;
     uint32_t seed_ = 0;

@@ -157,8 +157,8 @@ inline WatertightPacket make_watertight_packet(const PacketRays& r, const AxisSe
 
 // The watertight test's constants lane by lane, for rays whose permutations differ (a hit's
 // ambient-occlusion rays leave one point in every direction): each lane's kx, ky and kz as the
-// masks of the lanes where that axis is y or z, and make_watertight_packet's values in each lane
-// for the lane's own set. A group's vertices are then sheared once for all the lanes
+// masks of the lanes where that axis is y or z, and each lane's values from its own set's
+// make_watertight_packet. A group's vertices are then sheared once for all the lanes
 // (shear_vertices_lanes) rather than once per set, and its triangles tested once: a lane selects
 // its own coordinates, which is exact, so every value is the one its set's shear gives.
 struct WatertightLanes {
@@ -171,27 +171,25 @@ struct WatertightLanes {
 inline VF pick_lanes(VF x, VF y, VF z, VM is_y, VM is_z) { return select(is_z, z, select(is_y, y, x)); }
 
 inline WatertightLanes make_watertight_lanes(const PacketRays& r, const AxisSet* sets, int count) {
-    unsigned axis_is[3][3] = {};  // axis_is[role][axis]: the lanes whose kx (0), ky (1), kz (2) is axis
+    const VM none = mask_from_bits(0);
+    const VF zero = splat(0.0f);
+    WatertightLanes w{none, none, none, none, none, none, zero, zero, zero, zero, zero, zero};
     for (int i = 0; i < count; ++i) {
-        const unsigned lanes = bits(sets[i].lanes);
-        axis_is[0][sets[i].kx] |= lanes;
-        axis_is[1][sets[i].ky] |= lanes;
-        axis_is[2][sets[i].kz] |= lanes;
+        const WatertightPacket set = make_watertight_packet(r, sets[i]);
+        const VM m = set.lanes;
+        if (set.kx == 1) w.kx_y = w.kx_y | m;
+        if (set.kx == 2) w.kx_z = w.kx_z | m;
+        if (set.ky == 1) w.ky_y = w.ky_y | m;
+        if (set.ky == 2) w.ky_z = w.ky_z | m;
+        if (set.kz == 1) w.kz_y = w.kz_y | m;
+        if (set.kz == 2) w.kz_z = w.kz_z | m;
+        w.sx = select(m, set.sx, w.sx);
+        w.sy = select(m, set.sy, w.sy);
+        w.sz = select(m, set.sz, w.sz);
+        w.okx = select(m, set.okx, w.okx);
+        w.oky = select(m, set.oky, w.oky);
+        w.okz = select(m, set.okz, w.okz);
     }
-    WatertightLanes w;
-    w.kx_y = mask_from_bits(axis_is[0][1]);
-    w.kx_z = mask_from_bits(axis_is[0][2]);
-    w.ky_y = mask_from_bits(axis_is[1][1]);
-    w.ky_z = mask_from_bits(axis_is[1][2]);
-    w.kz_y = mask_from_bits(axis_is[2][1]);
-    w.kz_z = mask_from_bits(axis_is[2][2]);
-    const VF dkz = pick_lanes(r.dx, r.dy, r.dz, w.kz_y, w.kz_z);
-    w.sx = pick_lanes(r.dx, r.dy, r.dz, w.kx_y, w.kx_z) / dkz;
-    w.sy = pick_lanes(r.dx, r.dy, r.dz, w.ky_y, w.ky_z) / dkz;
-    w.sz = splat(1.0f) / dkz;
-    w.okx = pick_lanes(r.ox, r.oy, r.oz, w.kx_y, w.kx_z);
-    w.oky = pick_lanes(r.ox, r.oy, r.oz, w.ky_y, w.ky_z);
-    w.okz = pick_lanes(r.ox, r.oy, r.oz, w.kz_y, w.kz_z);
     return w;
 }
 
