@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -26,6 +27,7 @@
 #include "image/image_io.h"
 #include "json_value.h"
 #include "test_support.h"
+#include "view/file_watcher.h"
 #include "view/view_server.h"
 #include "view/view_session.h"
 
@@ -354,6 +356,50 @@ TEST_F(ViewTest, ASaveWrittenInStepsIsReadOnceWhenTheWriterClosesIt) {
     // Nothing more to read: past the 200 ms look, the version stays.
     std::this_thread::sleep_for(std::chrono::milliseconds(400));
     EXPECT_EQ(status_now(viewer.port())["version"].number, version + 1);
+}
+
+// The race behind a rare failure of the test above: the viewer's periodic look (every 200 ms,
+// for changes inotify misses) found the file changed just after the writer had truncated it,
+// and showed the empty file as a version with errors. Here the save begins right after the
+// watcher's wait has returned, as it did then. The load that read the empty file is dropped, and
+// the load after the next wait shows the saved scene.
+TEST_F(ViewTest, ALoadThatASaveBeganDuringIsDroppedAndTheSaveShownWhenDone) {
+    const std::string dir = scene_dir("save_during_load");
+    const ViewSettings settings = session_settings(dir);
+    ViewSession session(settings);
+    ASSERT_TRUE(session.reload_if_changed());
+    const uint64_t version = session.version();
+    FileWatcher files;
+    if (!files.notified()) GTEST_SKIP() << "no inotify here";
+    files.watch(session.watched_files());
+    files.wait(0);  // nothing happened: returns at once, as the 200 ms look does
+    const auto changed_during_load = [&] { return files.changed_since_wait(); };
+    const std::string scene = scene_with_red_background();
+    std::thread writer;
+    {
+        auto out = std::make_unique<std::ofstream>(dir + "/s.txt", std::ios::trunc);  // empty from here
+        ASSERT_TRUE(*out);
+        EXPECT_FALSE(session.reload_if_changed(changed_during_load)) << "the empty file was shown";
+        EXPECT_EQ(session.version(), version);
+        EXPECT_TRUE(session.diagnostics().empty());
+        writer = std::thread([out = std::move(out), &scene]() mutable {
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+            *out << scene;
+            out.reset();  // closes
+        });
+    }
+    files.watch(session.watched_files());
+    files.wait(200);  // until the writer has closed the file
+    writer.join();
+    ASSERT_TRUE(session.reload_if_changed(changed_during_load));
+    EXPECT_EQ(session.version(), version + 1);
+    EXPECT_TRUE(session.diagnostics().empty());
+    ViewSession fresh(settings);
+    ASSERT_TRUE(fresh.reload_if_changed());
+    const ViewResponse shown = session.image({});
+    ASSERT_EQ(shown.status, 200);
+    EXPECT_TRUE(shown.body == fresh.image({}).body) << "the viewer does not show the saved scene";
+    EXPECT_FALSE(session.reload_if_changed(changed_during_load));  // nothing more to load
 }
 
 // A writer that keeps the file open is not waited for past two seconds: what it has written by

@@ -1,12 +1,12 @@
 #include "view/view_server.h"
 
 #include "base/error.h"
+#include "view/file_watcher.h"
 
 #ifdef RAYCAST_HAVE_HTTPLIB
 
 #include <httplib.h>
 #include <netinet/in.h>
-#include <sys/inotify.h>
 #include <netinet/tcp.h>
 #include <poll.h>
 #include <pthread.h>
@@ -62,102 +62,6 @@ bool wait_for(int socket, short events, int milliseconds) {
         return ready > 0 && (fd.revents & (events | POLLHUP | POLLERR)) != 0;
     }
 }
-
-// Watches the folders of the scene's files with inotify, so that a save is seen at once; every
-// 200 ms it also looks anyway (file systems without inotify, files that moved). Either way the
-// session compares modification times and sizes before it reloads.
-//
-// A save is seldom one step: an editor truncates the file, writes it in one or more pieces, and
-// closes it, and a writer that loses the processor in between leaves the file empty or half
-// written for as long as it waits. Read then, the scene would flash an error and count a version
-// of its own. So after a change to a watched file, wait() returns only once every watched file
-// that was modified has been closed by its writer (IN_CLOSE_WRITE) or replaced by a rename
-// (IN_MOVED_TO) and nothing more has happened for 10 ms; a writer that keeps its file open longer
-// than kSettleLimitMilliseconds is not waited for (the close, when it comes, reloads again).
-class FileWatcher {
-public:
-    static constexpr int kQuietMilliseconds = 10;
-    static constexpr int kSettleLimitMilliseconds = 2000;
-
-    FileWatcher() : fd_(inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {}
-    ~FileWatcher() {
-        if (fd_ >= 0) ::close(fd_);
-    }
-    // Watches the folders of `files` (once each), and within them the files' names.
-    void watch(const std::vector<std::string>& files) {
-        if (fd_ < 0) return;
-        names_.clear();
-        for (const std::string& file : files) {
-            const size_t slash = file.find_last_of('/');
-            const std::string folder = slash == std::string::npos ? "." : (slash == 0 ? "/" : file.substr(0, slash));
-            auto known = std::find_if(folders_.begin(), folders_.end(), [&](const auto& f) { return f.first == folder; });
-            if (known == folders_.end()) {
-                const int wd = inotify_add_watch(fd_, folder.c_str(),
-                                                 IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE | IN_DELETE | IN_MODIFY);
-                known = folders_.insert(folders_.end(), {folder, wd});
-            }
-            if (known->second >= 0)
-                names_.push_back({known->second, slash == std::string::npos ? file : file.substr(slash + 1)});
-        }
-    }
-    // Waits up to `milliseconds` for something to change in a watched folder, then until the
-    // writers of the watched files are done (above).
-    void wait(int milliseconds) {
-        if (fd_ < 0) {
-            std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds));
-            return;
-        }
-        if (!wait_for(fd_, POLLIN, milliseconds)) return;
-        const Clock::time_point limit = Clock::now() + std::chrono::milliseconds(kSettleLimitMilliseconds);
-        Clock::time_point last_change = Clock::now();
-        std::vector<WatchedName> writing;  // watched files modified and not yet closed
-        for (;;) {
-            if (read_events(writing)) last_change = Clock::now();
-            if (Clock::now() >= limit) return;
-            // With no watched file open for writing, done once none has changed for a moment
-            // (other files in the folders, an editor's swap file, do not count).
-            if (writing.empty()) {
-                const int quiet = milliseconds_until(last_change + std::chrono::milliseconds(kQuietMilliseconds));
-                if (quiet == 0) return;
-                wait_for(fd_, POLLIN, quiet);
-            } else {
-                wait_for(fd_, POLLIN, milliseconds_until(limit));
-            }
-        }
-    }
-
-private:
-    using WatchedName = std::pair<int, std::string>;  // a folder's watch and a name in it
-
-    // Reads the pending events, keeping in `writing` the watched files that are being written.
-    // Returns whether any event was about a watched file.
-    bool read_events(std::vector<WatchedName>& writing) {
-        alignas(inotify_event) char buffer[4096];
-        bool watched = false;
-        for (;;) {
-            const ssize_t length = ::read(fd_, buffer, sizeof buffer);
-            if (length <= 0) return watched;
-            for (ssize_t at = 0; at + static_cast<ssize_t>(sizeof(inotify_event)) <= length;) {
-                inotify_event event;
-                std::memcpy(&event, buffer + at, sizeof event);
-                const char* name = buffer + at + sizeof event;
-                at += static_cast<ssize_t>(sizeof event + event.len);
-                if (event.len == 0 || at > length) continue;
-                const WatchedName key{event.wd, std::string(name, strnlen(name, event.len))};
-                if (std::find(names_.begin(), names_.end(), key) == names_.end()) continue;
-                watched = true;
-                const auto open = std::find(writing.begin(), writing.end(), key);
-                const bool done = (event.mask & (IN_CLOSE_WRITE | IN_MOVED_TO | IN_DELETE)) != 0;
-                if (done && open != writing.end()) writing.erase(open);
-                if (!done && (event.mask & (IN_MODIFY | IN_CREATE)) && open == writing.end()) writing.push_back(key);
-            }
-        }
-    }
-
-    int fd_;
-    std::vector<std::pair<std::string, int>> folders_;  // each watched folder and its watch (-1: failed)
-    std::vector<WatchedName> names_;                    // the watched files
-};
 
 // A connection's socket as httplib reads and writes it, with a budget: each request may read
 // kMaxRequestBytes (its head and its small body) within kRequestSeconds.
@@ -384,11 +288,14 @@ void run_view_server(ViewSession& session, const ViewServerOptions& options,
     server.deepen_backlog();
     std::atomic<bool> running{true};
     std::thread watcher([&] {
+        // Every 200 ms the files are looked at anyway (see FileWatcher). A load that a save began
+        // during is dropped: the next wait lets the writer finish, and the load after it shows the
+        // save.
         FileWatcher files;
         while (running.load()) {
             files.watch(session.watched_files());
             files.wait(200);
-            session.reload_if_changed();
+            session.reload_if_changed([&] { return files.changed_since_wait(); });
         }
     });
     std::thread stopper([&] {

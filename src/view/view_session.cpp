@@ -197,7 +197,7 @@ std::vector<Diagnostic> ViewSession::diagnostics() const {
     return all;
 }
 
-bool ViewSession::reload_if_changed() {
+bool ViewSession::reload_if_changed(const std::function<bool()>& changed_during_load) {
     // The files as they are before this load reads them: a file written again while the load
     // reads it must not be recorded as loaded (a mesh saved twice 30 ms apart left the viewer
     // showing the first version, with no error).
@@ -235,6 +235,8 @@ bool ViewSession::reload_if_changed() {
         errors.push_back(std::move(out_of_memory));
         if (stamps.empty()) stamps = stamps_of(nullptr);
     }
+    // Asked after the reading: every change the load could have seen has been counted by now.
+    if (changed_during_load && changed_during_load()) return false;
     std::lock_guard<std::mutex> lock(mutex_);
     // Keep watching the meshes of the last good scene too, so that fixing one reloads.
     if (errors.empty()) {

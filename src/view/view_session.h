@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -57,8 +58,12 @@ public:
     explicit ViewSession(ViewSettings settings);
 
     /// Loads the scene when a file it was read from has changed since the last load (or when it
-    /// has never been loaded). Returns whether it tried. Thread-safe.
-    bool reload_if_changed();
+    /// has never been loaded). Returns whether it loaded one: a new version, good or bad.
+    /// `changed_during_load`, when given, is asked after the files were read and before the load
+    /// is shown: if it says a file changed meanwhile (a save begun: the load may have read it
+    /// empty or half written), the load is dropped, nothing changes and false is returned; the
+    /// next call loads again. Thread-safe.
+    bool reload_if_changed(const std::function<bool()>& changed_during_load = nullptr);
 
     /// GET /status.
     ViewResponse status() const;

@@ -1,0 +1,140 @@
+#include "view/file_watcher.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <thread>
+
+#if __has_include(<sys/inotify.h>)
+#include <poll.h>
+#include <sys/inotify.h>
+#include <unistd.h>
+#define RAYCAST_HAVE_INOTIFY 1
+#endif
+
+namespace raycast {
+
+#ifdef RAYCAST_HAVE_INOTIFY
+
+namespace {
+
+// Whether `fd` has something to read within `milliseconds` (0: only what is there now).
+bool readable_within(int fd, int milliseconds) {
+    pollfd watched{fd, POLLIN, 0};
+    for (;;) {
+        const int ready = ::poll(&watched, 1, std::max(milliseconds, 0));
+        if (ready < 0 && errno == EINTR) continue;
+        return ready > 0 && (watched.revents & POLLIN) != 0;
+    }
+}
+
+}  // namespace
+
+FileWatcher::FileWatcher() : fd_(inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {}
+
+FileWatcher::~FileWatcher() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void FileWatcher::watch(const std::vector<std::string>& files) {
+    if (fd_ < 0) return;
+    names_.clear();
+    for (const std::string& file : files) {
+        const size_t slash = file.find_last_of('/');
+        const std::string folder = slash == std::string::npos ? "." : (slash == 0 ? "/" : file.substr(0, slash));
+        auto known = std::find_if(folders_.begin(), folders_.end(), [&](const auto& f) { return f.first == folder; });
+        if (known == folders_.end()) {
+            const int wd = inotify_add_watch(fd_, folder.c_str(),
+                                             IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE | IN_DELETE | IN_MODIFY);
+            known = folders_.insert(folders_.end(), {folder, wd});
+        }
+        if (known->second >= 0)
+            names_.push_back({known->second, slash == std::string::npos ? file : file.substr(slash + 1)});
+    }
+    // A file no longer watched has no events read any more: waiting for its writer would take
+    // every later wait to its limit.
+    writing_.erase(std::remove_if(writing_.begin(), writing_.end(),
+                                  [&](const WatchedName& name) {
+                                      return std::find(names_.begin(), names_.end(), name) == names_.end();
+                                  }),
+                   writing_.end());
+}
+
+void FileWatcher::wait(int milliseconds) {
+    if (fd_ < 0) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds));
+        return;
+    }
+    if (!pending_ && !readable_within(fd_, milliseconds)) {
+        settled_ = true;  // nothing written for a while
+        return;
+    }
+    pending_ = false;
+    settled_ = false;
+    const Clock::time_point limit = Clock::now() + std::chrono::milliseconds(kSettleLimitMilliseconds);
+    last_change_ = Clock::now();
+    for (;;) {
+        read_events();
+        const Clock::time_point now = Clock::now();
+        if (now >= limit) return;
+        // With no watched file open for writing, done once none has changed for a moment (other
+        // files in the folders, an editor's swap file, do not count).
+        if (writing_.empty()) {
+            const Clock::time_point quiet_until = last_change_ + std::chrono::milliseconds(kQuietMilliseconds);
+            if (now >= quiet_until) {
+                settled_ = true;
+                return;
+            }
+            readable_within(fd_, static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(quiet_until - now).count()));
+        } else {
+            readable_within(fd_, static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(limit - now).count()));
+        }
+    }
+}
+
+bool FileWatcher::changed_since_wait() {
+    if (fd_ < 0) return false;
+    if (read_events()) pending_ = true;
+    return pending_ && settled_;
+}
+
+// Reads the pending events, keeping in writing_ the watched files that are being written and in
+// last_change_ the time of the latest event about one. Returns whether any event was about a
+// watched file.
+bool FileWatcher::read_events() {
+    alignas(inotify_event) char buffer[4096];
+    bool watched = false;
+    for (;;) {
+        const ssize_t length = ::read(fd_, buffer, sizeof buffer);
+        if (length <= 0) break;
+        for (ssize_t at = 0; at + static_cast<ssize_t>(sizeof(inotify_event)) <= length;) {
+            inotify_event event;
+            std::memcpy(&event, buffer + at, sizeof event);
+            const char* name = buffer + at + sizeof event;
+            at += static_cast<ssize_t>(sizeof event + event.len);
+            if (event.len == 0 || at > length) continue;
+            const WatchedName key{event.wd, std::string(name, strnlen(name, event.len))};
+            if (std::find(names_.begin(), names_.end(), key) == names_.end()) continue;
+            watched = true;
+            const auto open = std::find(writing_.begin(), writing_.end(), key);
+            const bool done = (event.mask & (IN_CLOSE_WRITE | IN_MOVED_TO | IN_DELETE)) != 0;
+            if (done && open != writing_.end()) writing_.erase(open);
+            if (!done && (event.mask & (IN_MODIFY | IN_CREATE)) && open == writing_.end()) writing_.push_back(key);
+        }
+    }
+    if (watched) last_change_ = Clock::now();
+    return watched;
+}
+
+#else  // no inotify: only the periodic look
+
+FileWatcher::FileWatcher() : fd_(-1) {}
+FileWatcher::~FileWatcher() = default;
+void FileWatcher::watch(const std::vector<std::string>&) {}
+void FileWatcher::wait(int milliseconds) { std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds)); }
+bool FileWatcher::changed_since_wait() { return false; }
+bool FileWatcher::read_events() { return false; }
+
+#endif
+
+}  // namespace raycast

@@ -1,0 +1,69 @@
+// How `raycast view` notices that the scene's files were saved: inotify on their folders, so that a
+// save is seen at once, and a look every so often anyway (file systems without inotify, files that
+// moved). It only says when to look; the session compares modification times and sizes, and loads.
+//
+// A save is seldom one step: an editor truncates the file, writes it in one or more pieces and
+// closes it, and a writer that loses the processor in between leaves the file empty or half
+// written for as long as it waits. Read then, the scene would flash an error and count a version
+// of its own. So the watcher waits for writers to finish before it says "look" (wait()), and
+// says whether a save began while a load read the files (changed_since_wait()), so that such a
+// load is dropped rather than shown.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace raycast {
+
+class FileWatcher {
+public:
+    /// How long nothing may happen to the watched files before a change counts as finished.
+    static constexpr int kQuietMilliseconds = 10;
+    /// A writer that keeps changing the files is not waited for longer than this: what it has
+    /// written by then is loaded (and loaded again when it is done).
+    static constexpr int kSettleLimitMilliseconds = 2000;
+
+    FileWatcher();
+    ~FileWatcher();
+    FileWatcher(const FileWatcher&) = delete;
+    FileWatcher& operator=(const FileWatcher&) = delete;
+
+    /// Whether changes are seen as they happen (inotify); false: only the periodic look.
+    bool notified() const { return fd_ >= 0; }
+
+    /// Watches `files` (and forgets files watched before that are not among them). Their folders
+    /// are watched once each, and stay watched.
+    void watch(const std::vector<std::string>& files);
+
+    /// Returns after `milliseconds` if no watched file changed; otherwise once every watched file
+    /// that was written has been closed by its writer (or replaced by a rename, or deleted) and
+    /// nothing has happened to the watched files for kQuietMilliseconds, or once they have been
+    /// changing for kSettleLimitMilliseconds. A change seen by changed_since_wait() is waited for
+    /// here without the `milliseconds`.
+    void wait(int milliseconds);
+
+    /// Whether a watched file has changed since wait() returned, so that what was read from the
+    /// files since then may be half written. Every change that a read could have seen is counted:
+    /// the kernel queues a file's event before the call that changed it returns. False after a
+    /// wait() that ended at kSettleLimitMilliseconds, so that a writer that never stops still
+    /// gets its files shown (every two seconds).
+    bool changed_since_wait();
+
+private:
+    using Clock = std::chrono::steady_clock;
+    using WatchedName = std::pair<int, std::string>;  // a folder's watch and a name in it
+
+    bool read_events();
+
+    int fd_;
+    std::vector<std::pair<std::string, int>> folders_;  // each watched folder and its watch (-1: failed)
+    std::vector<WatchedName> names_;                    // the watched files
+    std::vector<WatchedName> writing_;                  // watched files written and not yet closed
+    bool pending_ = false;  // changed_since_wait() saw a change that wait() has not waited for
+    bool settled_ = true;   // the last wait() ended with the writers done (not at its limit)
+    Clock::time_point last_change_;  // the latest event about a watched file
+};
+
+}  // namespace raycast

@@ -1,0 +1,119 @@
+// The viewer's file watcher: a save that begins after wait() returned is counted before its writer
+// closes the file, wait() then lasts until the writer is done, other files in the folder do not
+// count, and a writer that keeps changing the file is not waited for forever. Most tests read no
+// clock: they check what changed_since_wait() says, which depends on how the last wait ended.
+#include "view/file_watcher.h"
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <chrono>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <thread>
+
+namespace raycast {
+namespace {
+
+class FileWatcherTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!files_.notified()) GTEST_SKIP() << "no inotify here: the watcher only looks every so often";
+        std::string pattern = ::testing::TempDir() + "raycast_file_watcher_XXXXXX";
+        ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
+        dir_ = pattern;
+        write(scene(), "Group { numObjects 0 }\n");
+        files_.watch({scene()});
+        files_.wait(0);  // nothing has happened since watch(): returns at once, settled
+    }
+    std::string scene() const { return dir_ + "/s.txt"; }
+    void write(const std::string& path, const std::string& text) { std::ofstream(path, std::ios::trunc) << text; }
+    std::string contents(const std::string& path) {
+        std::ifstream in(path, std::ios::binary);
+        return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    }
+
+    FileWatcher files_;
+    std::string dir_;
+};
+
+// The race the viewer had: its periodic look found the file changed, read it, and showed it,
+// while the writer had only truncated it. The truncation is counted at once; wait() then returns
+// only when the writer has closed the file, and the file is whole.
+TEST_F(FileWatcherTest, ASaveBegunAfterTheWaitIsCountedAndWaitedFor) {
+    EXPECT_FALSE(files_.changed_since_wait());
+    const std::string saved = "Group { numObjects 1 Sphere { center 0 0 0 radius 1 } }\n";
+    std::thread writer;
+    {
+        auto out = std::make_unique<std::ofstream>(scene(), std::ios::trunc);  // empty from here
+        ASSERT_TRUE(*out);
+        EXPECT_TRUE(files_.changed_since_wait()) << "a truncation was not counted";
+        EXPECT_TRUE(files_.changed_since_wait()) << "counted once, then forgotten before the wait";
+        writer = std::thread([out = std::move(out), &saved]() mutable {
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            *out << saved.substr(0, 10) << std::flush;
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            *out << saved.substr(10);
+            out.reset();  // closes
+        });
+    }
+    files_.wait(5000);
+    EXPECT_EQ(contents(scene()), saved) << "wait() returned before the writer closed the file";
+    writer.join();
+    EXPECT_FALSE(files_.changed_since_wait());
+}
+
+// A save counted by changed_since_wait() (and so read from the queue already) is waited for at
+// once: the next wait() does not first sit out its look's time for events that have been read.
+TEST_F(FileWatcherTest, ASaveAlreadyCountedIsNotWaitedForAgain) {
+    write(scene(), "Group { numObjects 0 }\n");  // truncated, written and closed
+    EXPECT_TRUE(files_.changed_since_wait());
+    const auto start = std::chrono::steady_clock::now();
+    files_.wait(20000);
+    // The margin is three orders of magnitude: settling takes kQuietMilliseconds.
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10)) << "waited for the look";
+}
+
+// Editors write swap and backup files beside the scene: they are no reason to drop a load.
+TEST_F(FileWatcherTest, OtherFilesInTheFolderDoNotCount) {
+    write(dir_ + "/s.txt.swp", "x");
+    write(dir_ + "/s.txt~", "y");
+    EXPECT_FALSE(files_.changed_since_wait());
+    write(scene(), "Group { numObjects 0 }\n");
+    EXPECT_TRUE(files_.changed_since_wait());
+}
+
+// A writer that keeps its file open and keeps writing: wait() gives up at its limit, and then no
+// change counts until the next wait, so the viewer shows what was written so far.
+TEST_F(FileWatcherTest, AWriterThatKeepsWritingIsNotWaitedForPastTheLimit) {
+    std::ofstream out(scene(), std::ios::trunc);
+    out << "Group {" << std::flush;
+    files_.wait(5000);  // lasts kSettleLimitMilliseconds: the writer has not closed the file
+    out << " numObjects 0" << std::flush;
+    EXPECT_FALSE(files_.changed_since_wait()) << "a load after the limit would be dropped: nothing shown";
+    out << " }\n";
+    out.close();
+    files_.wait(5000);  // the close: settled
+    write(scene(), "Group { numObjects 0 }\n");
+    EXPECT_TRUE(files_.changed_since_wait());
+}
+
+// A file the scene no longer names is not waited for: its writer's close is never read, and
+// every later wait would have lasted to its limit.
+TEST_F(FileWatcherTest, AFileNoLongerWatchedIsNotWaitedFor) {
+    const std::string mesh = dir_ + "/mesh.obj";
+    write(mesh, "v 0 0 0\n");
+    files_.watch({scene(), mesh});
+    files_.wait(0);
+    std::ofstream out(mesh, std::ios::trunc);  // the mesh's writer, still writing
+    EXPECT_TRUE(files_.changed_since_wait());
+    files_.watch({scene()});  // the scene stopped naming the mesh
+    files_.wait(5000);        // settles: nothing watched is being written
+    write(scene(), "Group { numObjects 0 }\n");
+    EXPECT_TRUE(files_.changed_since_wait()) << "the wait lasted to its limit, waiting for the mesh";
+}
+
+}  // namespace
+}  // namespace raycast
