@@ -89,6 +89,7 @@ using RadianceFunction = Vec3f (*)(const Integrator& integrator, const Ray& ray,
 /// A scene, the settings that shape its rays, and the radiance function of the render mode.
 struct Integrator {
     const Scene& scene;
+    const std::vector<Light>& lights;  ///< render_lights: the scene's, or the options' in their place
     const RenderOptions& options;
     RadianceFunction radiance;
     float ao_distance = 0;  ///< how far ambient-occlusion rays look (resolved from the options)

@@ -142,9 +142,10 @@ const SkippableBackFaces* skippable_for(const Integrator& integrator, size_t lig
 // Ambient plus the diffuse and specular share of every light, with no shadow rays: local_shading
 // below when it traces and records nothing (the same operations in the same order).
 // shade_camera_hits_locally does the same for a packet's hits, an operation at a time.
-Vec3f unshadowed_local_shading(const Scene& scene, const Material& material, const ShadingFrame& frame) {
+Vec3f unshadowed_local_shading(const Integrator& integrator, const Material& material, const ShadingFrame& frame) {
+    const Scene& scene = integrator.scene;
     Vec3f color = scene.ambient * material.diffuse;
-    for (const Light& light : scene.lights) {
+    for (const Light& light : integrator.lights) {
         const Illumination arriving = illuminate(light, frame.surface.position);
         const LightReflection terms =
             reflect_light_terms(material, scene.conventions.specular, frame.normal, arriving.to_light, frame.to_viewer);
@@ -159,14 +160,14 @@ Vec3f local_shading(const Integrator& integrator, const Ray& ray, const ShadingF
     const Scene& scene = integrator.scene;
     const Material& material = scene.materials[frame.surface.material];
     RayRecord* record = record_of(context);
-    if (!integrator.options.shadows && !record) return unshadowed_local_shading(scene, material, frame);
+    if (!integrator.options.shadows && !record) return unshadowed_local_shading(integrator, material, frame);
     const Vec3f ambient = scene.ambient * material.diffuse;
     Vec3f color = ambient;
     // Every shadow ray leaves the point by the same distance, found for the first one traced
     // here (a camera hit's may all have been traced ahead).
     float offset = -1;
-    for (size_t i = 0; i < scene.lights.size(); ++i) {
-        const Illumination arriving = illuminate(scene.lights[i], frame.surface.position);
+    for (size_t i = 0; i < integrator.lights.size(); ++i) {
+        const Illumination arriving = illuminate(integrator.lights[i], frame.surface.position);
         Vec3f transmittance{1, 1, 1};
         const bool shadow_ray = integrator.options.shadows && needs_shadow_ray(scene, material, frame, arriving);
         if (shadow_ray && !prepared_transmittance(context, i, transmittance)) {
@@ -422,12 +423,12 @@ bool misses_look_alike(RenderMode mode) {
 }
 
 Integrator make_integrator(const Scene& scene, const RenderOptions& options) {
-    Integrator integrator{scene, options, radiance_function_for(options.mode), 0, {}, {}};
+    Integrator integrator{scene, render_lights(scene, options), options, radiance_function_for(options.mode), 0, {}, {}};
     integrator.ao_distance = options.ao_distance;
     const Camera& camera = render_camera(scene, options);
     integrator.camera_center = camera.center;
     if (options.shadows && !options.transparent_shadows && options.skip_back_faces)
-        for (const Light& light : scene.lights)
+        for (const Light& light : integrator.lights)
             integrator.back_faces_skippable.push_back(back_faces_skippable(scene, camera, light));
     if (!(integrator.ao_distance > 0)) {
         // A tenth of the scene's diagonal; with nothing bounded (planes only), no limit.
@@ -843,7 +844,7 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
     surface_points(scene, rays, hits, lanes.lane, n, lanes.surface);
     shading_frames(lanes, scene.conventions);
     begin_local_shading(scene, lanes);
-    for (const Light& light : scene.lights) {
+    for (const Light& light : integrator.lights) {
         LaneVectors to_light, arriving;
         float distance[kMaxPacketLanes], n_dot_l[kMaxPacketLanes], base[kMaxPacketLanes];
         illuminate_lanes(light, lanes, to_light, arriving, distance);
@@ -858,7 +859,7 @@ void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, co
 
 bool traces_camera_shadows(const Integrator& integrator) {
     return integrator.radiance == &whitted_radiance && integrator.options.shadows &&
-           !integrator.options.transparent_shadows && !integrator.scene.lights.empty();
+           !integrator.options.transparent_shadows && !integrator.lights.empty();
 }
 
 namespace {
@@ -932,7 +933,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
                           int count, CameraShadows* shadows) {
     RAYCAST_DCHECK(count <= kMaxCameraShadowHits);
     const Scene& scene = integrator.scene;
-    const bool shading = integrator.radiance == &whitted_radiance && scene.lights.size() <= kMaxCameraShadowLights;
+    const bool shading = integrator.radiance == &whitted_radiance && integrator.lights.size() <= kMaxCameraShadowLights;
     constexpr int kMaxParts = kMaxCameraShadowHits / kMaxPacketLanes;
     ShadowPart parts[kMaxParts];
     int part_count = 0;
@@ -943,7 +944,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
         if (part.lanes.count == 0) --part_count;  // nothing to trace or shade
     }
     if (part_count == 0) return;
-    const size_t lights = std::min(scene.lights.size(), kMaxCameraShadowLights);
+    const size_t lights = std::min(integrator.lights.size(), kMaxCameraShadowLights);
     for (size_t i = 0; i < lights; ++i) {
         // The light's shadow rays from every part, traced in as few packets as hold them: a
         // block's hits that face the light are often a third of it, and a packet costs its walk
@@ -961,7 +962,7 @@ void trace_camera_shadows(const Integrator& integrator, const PacketTracer& trac
             LaneVectors to_light;
             float distance[kMaxPacketLanes];
             bool needs[kMaxPacketLanes];
-            illuminate_lanes(scene.lights[i], lanes, to_light, part.arriving, distance);
+            illuminate_lanes(integrator.lights[i], lanes, to_light, part.arriving, distance);
             specular_bases(scene.conventions.specular, lanes, to_light, part.n_dot_l, part.base);
             shadow_ray_needs(scene, lanes, to_light, part.arriving, distance, part.n_dot_l, part.base, needs);
             part.first_ray = ray_count;

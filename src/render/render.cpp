@@ -117,7 +117,7 @@ public:
         : scene_(scene),
           options_(options),
           integrator_(make_integrator(scene, options)),
-          normals_{scene, options, radiance_function_for(RenderMode::Normals), 0, {}, {}},
+          normals_{scene, render_lights(scene, options), options, radiance_function_for(RenderMode::Normals), 0, {}, {}},
           // A packet holds sample s of each pixel of a block: neighbouring rays, coherent with or
           // without jitter or a lens. The cost mode counts nodes per ray, so it traces ray by ray.
           tracer_(scene, options.mode != RenderMode::Cost ? options.packet_isa : PacketIsa::None),

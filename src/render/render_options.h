@@ -77,11 +77,19 @@ struct RenderOptions {
     /// Renders through this camera instead of the scene's (the viewer's orbiting camera); it
     /// must outlive the render.
     const Camera* camera = nullptr;
+    /// Lights the render uses instead of the scene's (the viewer's moved lights); they must
+    /// outlive the render. Directional lights' directions unit, as build_scene makes them.
+    const std::vector<Light>* lights = nullptr;
 };
 
 /// The camera a render with these options looks through.
 inline const Camera& render_camera(const Scene& scene, const RenderOptions& options) {
     return options.camera ? *options.camera : scene.camera;
+}
+
+/// The lights a render with these options shades with.
+inline const std::vector<Light>& render_lights(const Scene& scene, const RenderOptions& options) {
+    return options.lights ? *options.lights : scene.lights;
 }
 
 }  // namespace raycast

@@ -285,6 +285,32 @@ TEST(RenderTest, ShadowPacketsGiveTheSameImageAndCountsAsSingleRays) {
         }
 }
 
+// RenderOptions::lights (the viewer's moved lights) in place of the scene's: every path gives
+// the image of a scene built with those lights, shadows, back-face skipping and bounces included.
+TEST(RenderTest, LightsGivenInTheOptionsAreTheImageOfTheSceneWithThem) {
+    for (const bool meshes : {true, false}) {
+        const Scene scene = meshes ? mesh_scene() : spheres_scene();
+        Scene moved = meshes ? mesh_scene() : spheres_scene();
+        for (Light& light : moved.lights) {
+            if (light.kind == Light::Kind::Point) light.position = light.position + Vec3f{-3, 1, 2};
+            else light.direction = normalize(Vec3f{0.4f, -1, -0.2f});
+        }
+        for (const int bounces : {0, 2})
+            for (const bool shadows : {false, true})
+                for (PacketIsa isa : packet_isas()) {
+                    SCOPED_TRACE(std::string(meshes ? "meshes" : "spheres") + " " + packet_isa_name(isa) +
+                                 (shadows ? " shadows" : "") + " bounces " + std::to_string(bounces));
+                    RenderOptions options = options_with(isa);
+                    options.shadows = shadows;
+                    options.bounces = bounces;
+                    const Image reference = render_image(moved, options);
+                    EXPECT_FALSE(same_floats(reference, render_image(scene, options)));  // the lights matter
+                    options.lights = &moved.lights;
+                    EXPECT_TRUE(same_floats(render_image(scene, options), reference));
+                }
+    }
+}
+
 // Floors as students make them, under spheres and a point light: two triangles 4000 across, the
 // same from two unit triangles under a Transform scaled 2000 times, and a sphere of radius 2000.
 // A hit near the origin is only as accurate as the floor's own numbers (on the triangles, 3e-5 off
