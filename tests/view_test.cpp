@@ -279,6 +279,59 @@ TEST_F(ViewTest, StatusTellsTheVersionCameraAndDefaults) {
     EXPECT_EQ(status["camera"]["width"].number, 48);
     ASSERT_EQ(status["bounds"].type, JsonValue::Type::Object);  // the spheres and the quad
     EXPECT_NEAR(status["bounds"]["lower"][0].number, -4, 1e-3);
+    // The lights as the file writes them: a directional light's direction is not made unit.
+    ASSERT_EQ(status["lights"].array.size(), 2u);
+    const JsonValue& point = status["lights"][0];
+    EXPECT_EQ(point["kind"].string, "PointLight");
+    EXPECT_EQ(point["position"][1].number, 5);
+    EXPECT_NEAR(point["color"][0].number, 0.8, 1e-6);
+    EXPECT_EQ(point["attenuation"][0].number, 1);
+    EXPECT_EQ(point["attenuation"][2].number, 0);
+    const JsonValue& directional = status["lights"][1];
+    EXPECT_EQ(directional["kind"].string, "DirectionalLight");
+    EXPECT_EQ(directional["direction"][1].number, -1);
+    EXPECT_NEAR(directional["direction"][2].number, -0.5, 1e-6);
+    EXPECT_EQ(directional.object.count("attenuation"), 0u);  // only point lights have one
+}
+
+// lightN=x,y,z moves light N (a point light's position, a directional light's direction, as
+// the file writes them): the image and the ray tree are those of the file with the light there.
+TEST_F(ViewTest, ALightMovedByTheQueryGivesTheImageOfTheFileWithItThere) {
+    const std::string dir = scene_dir("lights");
+    ViewSession session(session_settings(dir));
+    ASSERT_TRUE(session.reload_if_changed());
+    std::string scene = kScene;
+    scene.replace(scene.find("position 3 5 5"), 14, "position -2 4 3");
+    scene.replace(scene.find("direction -0.3 -1 -0.5"), 22, "direction 0.5 -2 0.25");
+    const std::string moved_dir = scene_dir("lights_moved");
+    write_file(moved_dir + "/s.txt", scene);
+    ViewSession moved(session_settings(moved_dir));
+    ASSERT_TRUE(moved.reload_if_changed());
+    const QueryParameters lights{{"light0", "-2,4,3"}, {"light1", "0.5,-2,0.25"}};
+    for (const char* shadows : {"0", "1"}) {
+        SCOPED_TRACE(shadows);
+        QueryParameters query = lights;
+        query.insert({{"shadows", shadows}, {"bounces", "2"}});
+        const ViewResponse image = session.image(query);
+        ASSERT_EQ(image.status, 200) << image.body;
+        EXPECT_TRUE(image.body == moved.image({{"shadows", shadows}, {"bounces", "2"}}).body);
+        EXPECT_FALSE(image.body == session.image({{"shadows", shadows}, {"bounces", "2"}}).body) << "nothing moved";
+        query.insert({{"x", "14"}, {"y", "20"}});  // on the red sphere, lit by both lights
+        const ViewResponse explained = session.explain(query);
+        ASSERT_EQ(explained.status, 200) << explained.body;
+        ViewResponse expected = moved.explain({{"shadows", shadows}, {"bounces", "2"}, {"x", "14"}, {"y", "20"}});
+        expected.body.replace(expected.body.find(moved_dir), moved_dir.size(), dir);  // the scene's path
+        EXPECT_EQ(explained.body, expected.body);
+        EXPECT_NE(explained.body, session.explain({{"shadows", shadows}, {"bounces", "2"}, {"x", "14"}, {"y", "20"}}).body);
+    }
+    // One light moved, the other as in the file.
+    const ViewResponse one = session.image({{"light0", "-2,4,3"}});
+    std::string half = kScene;
+    half.replace(half.find("position 3 5 5"), 14, "position -2 4 3");
+    write_file(moved_dir + "/s.txt", half);
+    ViewSession half_moved(session_settings(moved_dir));
+    ASSERT_TRUE(half_moved.reload_if_changed());
+    EXPECT_TRUE(one.body == half_moved.image({}).body);
 }
 
 TEST_F(ViewTest, EditingTheSceneReloadsItAndATypoKeepsTheLastGoodImage) {
@@ -446,6 +499,16 @@ TEST_F(ViewTest, BadQueryValuesAreAnsweredFourHundredWithTheReason) {
         {"/explain?x=48&y=0", "pixel 48 0 is outside the 48x36 image"},
         {"/explain?x=-1&y=0", "parameter 'x' must be a pixel's column (x) or row from the top (y), got '-1'"},
         {"/image?shadows=yes", "parameter 'shadows' must be 0 or 1, got 'yes'"},
+        {"/image?light2=0,0,1", "parameter 'light2': the scene has 2 lights, light0 to light1"},
+        {"/image?light999999999=0,0,1", "parameter 'light999999999': the scene has 2 lights, light0 to light1"},
+        {"/image?light1=0,0,0", "parameter 'light1' is a directional light's direction, which must not be the zero vector"},
+        {"/image?light0=2e19,0,0", "parameter 'light0' puts a point light at coordinates of 2e+19, beyond raycast's limit of 1e+18"},
+        {"/image?light0=1,2", "parameter 'light0' must be three numbers x,y,z, got '1,2'"},
+        {"/image?light0=1,2,3&light0=1,2,3", "parameter 'light0' is given twice"},
+        {"/image?light01=1,2,3", "unknown parameter 'light01'"},
+        {"/image?light=1,2,3", "unknown parameter 'light'"},
+        {"/image?light-1=1,2,3", "unknown parameter 'light-1'"},
+        {"/image?light1000000000=1,2,3", "unknown parameter 'light1000000000'"},
         // The query is read strictly: cpp-httplib's own reader dropped an exact repeat, read
         // spp=1=2 as 2, took ';' for '&' and %u0038 for 8, and let a decoded %FF into the text.
         {"/image?spp=1&spp=1", "parameter 'spp' is given twice"},

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "base/json_writer.h"
+#include "base/limits.h"
 #include "base/parallel.h"
 #include "base/parse_number.h"
 #include "image/image_io.h"
@@ -49,6 +50,18 @@ bool parse_vec3(const std::string& text, Vec3f& v) {
     if (b == std::string::npos || text.find(',', b + 1) != std::string::npos) return false;
     return parse_whole_float(text.substr(0, a), v.x) && parse_whole_float(text.substr(a + 1, b - a - 1), v.y) &&
            parse_whole_float(text.substr(b + 1), v.z);
+}
+
+// "lightN", N a light's number written as a whole number is (no sign, no leading zero).
+bool light_index(const std::string& name, int64_t& index) {
+    if (name.compare(0, 5, "light") != 0 || name.size() == 5 || name.size() > 14) return false;
+    if (name[5] == '0' && name.size() > 6) return false;
+    index = 0;
+    for (size_t i = 5; i < name.size(); ++i) {
+        if (name[i] < '0' || name[i] > '9') return false;
+        index = index * 10 + (name[i] - '0');
+    }
+    return true;
 }
 
 bool parse_switch(const std::string& text, bool& value) {
@@ -151,6 +164,7 @@ struct ViewSession::Request {
     RenderOptions options;
     Conventions conventions;
     CameraDesc camera;
+    std::vector<std::pair<size_t, Vec3f>> light_moves;  // lightN=x,y,z: light N's position or direction
     int width = 0, height = 0;
     int x = -1, y = -1;
 };
@@ -159,7 +173,8 @@ struct ViewSession::Prepared {
     Request request;
     std::shared_ptr<const SceneDesc> desc;
     std::shared_ptr<const Scene> scene;
-    Camera camera;  // request.options.camera points here
+    Camera camera;              // request.options.camera points here
+    std::vector<Light> lights;  // request.options.lights points here when the query moved one
 };
 
 ViewSession::ViewSession(ViewSettings settings) : settings_(std::move(settings)) {
@@ -375,6 +390,10 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
         } else if (name == "size") {
             if (!parse_whole_float(value, number) || !(number > 0)) return fail("must be a positive number");
             size = number;
+        } else if (light_index(name, whole)) {
+            Vec3f v;
+            if (!parse_vec3(value, v)) return fail("must be three numbers x,y,z");
+            request.light_moves.push_back({static_cast<size_t>(whole), v});
         } else if (explaining && (name == "x" || name == "y")) {
             if (!parse_whole_int(value, whole) || whole < 0 || whole >= kMaxViewSide)
                 return fail("must be a pixel's column (x) or row from the top (y)");
@@ -413,6 +432,23 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
         if (camera.kind != CameraDesc::Kind::Orthographic) return error = "size is for an orthographic camera", false;
         camera.size = size;
     }
+    // The lights the query moves: a point light's position, a directional light's direction.
+    const std::vector<LightDesc>& lights = loaded_.desc->lights;
+    for (const auto& [index, v] : request.light_moves) {
+        const std::string name = "parameter 'light" + std::to_string(index) + "'";
+        if (index >= lights.size())
+            return error = name + (lights.empty() ? ": the scene has no lights"
+                                                  : lights.size() == 1 ? ": the scene has one light, light0"
+                                                                       : string_printf(": the scene has %zu lights, light0 to light%zu",
+                                                                                       lights.size(), lights.size() - 1)),
+                   false;
+        if (lights[index].kind == LightDesc::Kind::Directional && is_zero(v))
+            return error = name + " is a directional light's direction, which must not be the zero vector", false;
+        if (lights[index].kind == LightDesc::Kind::Point && !(max_abs(v) <= kMaxCoordinate))
+            return error = name + string_printf(" puts a point light at coordinates of %g, beyond raycast's limit of %g",
+                                                double(max_abs(v)), double(kMaxCoordinate)),
+                   false;
+    }
     if (is_zero(camera.direction)) return error = "the camera direction must not be the zero vector", false;
     if (is_zero(camera.up)) return error = "the camera up must not be the zero vector", false;
     if (length(cross(normalize_any_length(camera.direction), normalize_any_length(camera.up))) < 1e-6f)
@@ -446,6 +482,16 @@ bool ViewSession::prepare(const QueryParameters& query, bool explaining, Prepare
             settings_.focus_distance > 0 ? settings_.focus_distance : auto_focus_distance(*prepared.scene, camera);
     }
     prepared.request.options.camera = &camera;
+    if (!request.light_moves.empty()) {
+        // As build_scene makes them from the file's lights, moved.
+        prepared.lights = prepared.scene->lights;
+        for (const auto& [index, v] : request.light_moves) {
+            Light& light = prepared.lights[index];
+            if (light.kind == Light::Kind::Directional) light.direction = normalize_any_length(v);
+            else light.position = v;
+        }
+        prepared.request.options.lights = &prepared.lights;
+    }
     return true;
 }
 
@@ -538,6 +584,26 @@ ViewResponse ViewSession::status() const {
     } else {
         json.null();
         json.key("bounds");
+        json.null();
+    }
+    // The lights as the scene file writes them, for moving them (lightN=) and copying the block
+    // back: a point light's position, a directional light's direction as written (not unit).
+    json.key("lights");
+    if (loaded_.desc) {
+        json.open('[');
+        for (const LightDesc& light : loaded_.desc->lights) {
+            const auto vec = [&](const char* name, Vec3f v) { json.numbers_field(name, {v.x, v.y, v.z}); };
+            json.item();
+            json.open('{');
+            const bool point = light.kind == LightDesc::Kind::Point;
+            json.field("kind", std::string(point ? "PointLight" : "DirectionalLight"));
+            vec(point ? "position" : "direction", point ? light.position : light.direction);
+            vec("color", light.color);
+            if (point) vec("attenuation", light.attenuation);
+            json.close('}');
+        }
+        json.close(']');
+    } else {
         json.null();
     }
     json.close('}');

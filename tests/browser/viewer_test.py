@@ -4,7 +4,8 @@
 On a scene this test writes (a mirror ball, a red ball, a floor): the page shows the server's
 image; a click on the mirror ball lists a reflected ray in the ray tree and draws the rays over
 the image; editing the file updates the image; a typo shows the located error and keeps the last
-image; a drag moves the camera and the camera block follows. Screenshots go to the folder given.
+image; a typed number and a ctrl-drag move a light, and the page shows /image with the light
+there; a drag moves the camera and the camera block follows. Screenshots go to the folder given.
 
     python3 tests/browser/viewer_test.py path/to/raycast [SCREENSHOT_FOLDER]
 
@@ -28,6 +29,7 @@ try:
     from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.action_chains import ActionChains
     from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
 except ImportError:
     print("skipped: python3-selenium is not installed")
     sys.exit(SKIP)
@@ -144,7 +146,7 @@ def image_state(driver):
     return driver.execute_script(
         "const i = document.getElementById('image');"
         "return {width: i.naturalWidth, height: i.naturalHeight, spp: i.dataset.spp || '', version: i.dataset.version || '',"
-        "        src: i.src};")
+        "        query: i.dataset.query || '', src: i.src};")
 
 
 def displayed_image_bytes(driver):
@@ -170,6 +172,16 @@ def wait_for_image(driver, version, spp):
     return wait_until("the page shows version %s at %s samples" % (version, spp),
                       lambda: (lambda s: s if s["version"] == str(version) and s["spp"] == str(spp) else None)(
                           image_state(driver)))
+
+
+def settled_image(driver, url):
+    """Waits until the page shows its last image for the current view (16 samples, the query the
+    page would ask now: it asks nothing more), then returns what /image serves for that query.
+    Asked earlier, /image would cancel the page's own render (409), or be cancelled by it."""
+    query = wait_until("the page settles on the current view",
+                       lambda: (lambda s, q: q if s["spp"] == "16" and s["query"] == q else None)(
+                           image_state(driver), driver.execute_script("return renderParams({spp: 16});")))
+    return urllib.request.urlopen(url + "image?" + query, timeout=60).read()
 
 
 def click_image(driver, x, y):
@@ -237,6 +249,44 @@ def run(driver, url, scene_path, shots):
     wait_until("the error is gone", lambda: not driver.find_element(By.ID, "errors").is_displayed())
     wait_for_image(driver, 4, 16)
     check(displayed_image_bytes(driver) == first_bytes, "back to the first file, but not to the first image")
+
+    # The lights: their block is the file's; a number typed for light 0 moves it, and the page
+    # shows /image with light0= there; a ctrl-drag moves it across the view (not the camera); the
+    # reset brings the file's lights and the first image back.
+    lights_text = lambda: driver.find_element(By.ID, "lights-text").get_attribute("value")
+    check("numLights 2\n    PointLight {\n        position 3 5 6\n        color 0.8 0.8 0.8\n    }\n" in lights_text(),
+          "the lights block is not the file's: %r" % lights_text())
+    tree_before = driver.find_element(By.ID, "tree").text
+    check(("pixel (%d, %d)" % picked) in tree_before, "the picked pixel's tree is gone: %r" % tree_before)
+    driver.execute_script("const f = document.getElementById('light0-x'); f.value = '-3';"
+                          "f.dispatchEvent(new Event('change'));")
+    wait_until("the lights block follows the number", lambda: "position -3 5 6" in lights_text())
+    params = driver.execute_script("return renderParams({spp: 16});")
+    check("light0=-3%2C5%2C6" in params and "light1" not in params, "the query does not move light 0 alone: " + params)
+    served = settled_image(driver, url)
+    check(served != first_bytes, "moving the light changed nothing")
+    check(displayed_image_bytes(driver) == served, "the page does not show /image with the light moved")
+    # The picked pixel is the same surface, lit anew: its tree is asked for again, and changes.
+    wait_until("the picked pixel's tree follows the light",
+               lambda: (lambda t: ("pixel (%d, %d)" % picked) in t and t != tree_before)(
+                   driver.find_element(By.ID, "tree").text))
+    camera_block = driver.find_element(By.ID, "camera-text").get_attribute("value")
+    overlay = driver.find_element(By.ID, "overlay")
+    ActionChains(driver).key_down(Keys.CONTROL).move_to_element_with_offset(overlay, 0, 0).click_and_hold() \
+        .move_by_offset(40, 0).move_by_offset(20, -20).release().key_up(Keys.CONTROL).perform()
+    wait_until("a ctrl-drag moves the light", lambda: "position -3 5 6" not in lights_text())
+    check(driver.find_element(By.ID, "camera-text").get_attribute("value") == camera_block,
+          "the ctrl-drag moved the camera too")
+    dragged_x = float(driver.find_element(By.ID, "light0-x").get_attribute("value"))
+    check(dragged_x > -3, "dragged right, the light went to x = %s" % dragged_x)
+    dragged = settled_image(driver, url)
+    check(dragged != served, "dragging the light changed nothing")
+    check(displayed_image_bytes(driver) == dragged, "the page does not show /image with the light dragged")
+    if shots:
+        driver.save_screenshot(os.path.join(shots, "viewer_lights.png"))
+    driver.find_element(By.ID, "reset-lights").click()
+    wait_until("the reset brings the first image back", lambda: displayed_image_bytes(driver) == first_bytes)
+    check("position 3 5 6" in lights_text(), "the reset did not bring the file's lights back")
 
     # A drag orbits the camera: a new image, and the camera block follows.
     block_before = driver.find_element(By.ID, "camera-text").get_attribute("value")
