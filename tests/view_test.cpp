@@ -490,6 +490,7 @@ TEST_F(ViewTest, BadQueryValuesAreAnsweredFourHundredWithTheReason) {
         {"/image?eye=1,2", "parameter 'eye' must be three numbers x,y,z, got '1,2'"},
         {"/image?eye=nan,0,0", "parameter 'eye' must be three numbers x,y,z, got 'nan,0,0'"},
         {"/image?dir=0,0,0", "the camera direction must not be the zero vector"},
+        {"/image?eye=0,-3e30,0", "parameter 'eye' puts the camera at coordinates of 3e+30, beyond raycast's limit of 1e+18"},
         {"/image?dir=0,0,-1&up=0,0,-2", "the camera up must not be parallel to its direction"},
         {"/image?angle=180", "parameter 'angle' must be more than 0 and less than 180 degrees, got '180'"},
         {"/image?size=2", "size is for an orthographic camera"},

@@ -421,6 +421,10 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
     if (!loaded_.desc || !loaded_.desc->camera) return error = "the scene has not loaded", false;
     request.camera = *loaded_.desc->camera;
     CameraDesc& camera = request.camera;
+    if (has_eye && !(max_abs(eye) <= kMaxCoordinate))
+        return error = string_printf("parameter 'eye' puts the camera at coordinates of %g, beyond raycast's limit of %g",
+                                     double(max_abs(eye)), double(kMaxCoordinate)),
+               false;
     if (has_eye) camera.center = eye;
     if (has_direction) camera.direction = direction;
     if (has_up) camera.up = up;
