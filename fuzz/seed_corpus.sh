@@ -7,6 +7,7 @@
 #                             raycast program of BUILD as .bmp .ppm .tga (and .png when built
 #                             with libpng), plus a text P3 PPM, a top-down 32-bit BMP and an RLE TGA
 #   corpus-fuzz_render_pipeline: its bytes are choices, not text: a few fixed byte patterns
+#   corpus-fuzz_view_query:   the query strings of the page's requests and of docs/viewer.md
 # Nothing is taken from ../shared.
 #   bash fuzz/seed_corpus.sh [BUILD]   (default build-fuzz; BUILD/raycast must be built)
 set -euo pipefail
@@ -24,7 +25,8 @@ scene_dir="$build/corpus-fuzz_scene_parser"
 obj_dir="$build/corpus-fuzz_obj_loader"
 image_dir="$build/corpus-fuzz_image_decode"
 pipeline_dir="$build/corpus-fuzz_render_pipeline"
-mkdir -p "$scene_dir" "$obj_dir" "$image_dir" "$pipeline_dir"
+query_dir="$build/corpus-fuzz_view_query"
+mkdir -p "$scene_dir" "$obj_dir" "$image_dir" "$pipeline_dir" "$query_dir"
 
 # ---- scenes and meshes: the project's own files ----
 cp testcases/*.txt scenes/revolution.txt "$scene_dir/"
@@ -80,6 +82,20 @@ for byte in 00 01 55 aa ff; do
 done
 LC_ALL=C awk 'BEGIN { for (i = 0; i < 512; ++i) printf "%c", (i * 37 + 11) % 256 }' >"$pipeline_dir/seed-ramp"
 
+# ---- the viewer's query strings: what the page asks, and each parameter on its own ----
+n=0
+for query in \
+  'mode=shaded&shadows=1&transparent_shadows=0&bounces=3&conventions=course&fov=both&spp=4' \
+  'mode=ao&spp=1&ao_samples=4&ao_distance=2' \
+  'eye=0.5,1,9&dir=-0.1,-0.1,-1&up=0,1,0&angle=40&light0=-2,4,3&light1=0.5,-2,0.25&shadows=1' \
+  'x=3&y=2&bounces=2&shadows=1&spp=1' \
+  'conventions=mit6837&shade_back=1&mode=normals&width=10&height=7' \
+  'mode=cost' 'mode=depth' 'mode=material&weight=0.5' 'size=2' 'light2=1,2,3' 'light1=0,0,0' \
+  'eye=1e30,0,0' 'spp=1=2' 'width=%38' 'a=1&&b=2'; do
+  printf '%s' "$query" >"$query_dir/seed-$n"
+  n=$((n + 1))
+done
+
 count() { find "$1" -type f | wc -l; }
-echo "seed_corpus.sh: $(count "$scene_dir") scene, $(count "$obj_dir") OBJ, $(count "$image_dir") image and" \
-  "$(count "$pipeline_dir") pipeline inputs in $build/corpus-*/"
+echo "seed_corpus.sh: $(count "$scene_dir") scene, $(count "$obj_dir") OBJ, $(count "$image_dir") image," \
+  "$(count "$pipeline_dir") pipeline and $(count "$query_dir") query inputs in $build/corpus-*/"

@@ -19,7 +19,7 @@ case "$seconds" in
     exit 2
     ;;
 esac
-targets=(${FUZZ_TARGETS:-fuzz_scene_parser fuzz_obj_loader fuzz_image_decode fuzz_render_pipeline})
+targets=(${FUZZ_TARGETS:-fuzz_scene_parser fuzz_obj_loader fuzz_image_decode fuzz_render_pipeline fuzz_view_query})
 build=build-fuzz
 max_len=65536
 
@@ -43,6 +43,7 @@ for target in "${targets[@]}"; do
   mkdir -p "$corpus" "$findings"
   extra=()
   [ "$target" = fuzz_scene_parser ] && extra+=(-dict=fuzz/scene.dict)
+  [ "$target" = fuzz_view_query ] && extra+=(-dict=fuzz/view.dict)
   # First the inputs of past findings (fuzz/regressions/<target>-*): each must now pass.
   regressions=(fuzz/regressions/"$target"-*)
   if [ -e "${regressions[0]}" ]; then
