@@ -43,7 +43,7 @@ struct RayCounts {
 /// renderer warns when a sample reaches it.
 constexpr uint32_t kMaxRaysPerSample = 1u << 16;
 
-/// The lights whose answers a CameraShadows keeps, a bit each: the first this many of a scene.
+/// The lights whose answers a CameraShadows keeps, a bit each: the first this many of a render.
 constexpr size_t kMaxCameraShadowLights = 64;
 
 /// The answers to a camera hit's opaque shadow rays, found before shading by tracing them in a

@@ -24,7 +24,7 @@ const char* ray_kind_name(RayKind kind);
 
 /// One light's share of the local shading at a hit.
 struct LightTerm {
-    uint32_t light = 0;    ///< index into Scene::lights
+    uint32_t light = 0;    ///< index into the render's lights (render_lights: the scene's unless moved)
     Vec3f to_light;        ///< unit
     float distance = 0;    ///< infinity for a directional light
     Vec3f arriving;        ///< the light's colour at the point (after attenuation)

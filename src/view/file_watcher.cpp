@@ -76,7 +76,12 @@ void FileWatcher::wait(int milliseconds) {
     for (;;) {
         read_events();
         const Clock::time_point now = Clock::now();
-        if (now >= limit) return;
+        if (now >= limit) {
+            // Not waited for any more. A name created without a writer (a link) never closes,
+            // and kept here it would take every later wait to its limit.
+            writing_.clear();
+            return;
+        }
         // With no watched file open for writing, done once none has changed for a moment (other
         // files in the folders, an editor's swap file, do not count).
         if (writing_.empty()) {
@@ -95,7 +100,13 @@ void FileWatcher::wait(int milliseconds) {
 bool FileWatcher::changed_since_wait() {
     if (fd_ < 0) return false;
     if (read_events()) pending_ = true;
-    return pending_ && settled_;
+    const Clock::time_point now = Clock::now();
+    if (pending_ && settled_) {
+        if (!dropping_since_) dropping_since_ = now;
+        if (now - *dropping_since_ < std::chrono::milliseconds(kSettleLimitMilliseconds)) return true;
+    }
+    dropping_since_.reset();  // what was read is shown
+    return false;
 }
 
 // Reads the pending events, keeping in writing_ the watched files that are being written and in
@@ -112,6 +123,12 @@ bool FileWatcher::read_events() {
             std::memcpy(&event, buffer + at, sizeof event);
             const char* name = buffer + at + sizeof event;
             at += static_cast<ssize_t>(sizeof event + event.len);
+            if (event.mask & IN_Q_OVERFLOW) {
+                // Events were lost: any watched file may have changed, and any writer closed.
+                writing_.clear();
+                watched = true;
+                continue;
+            }
             if (event.len == 0 || at > length) continue;
             const WatchedName key{event.wd, std::string(name, strnlen(name, event.len))};
             if (std::find(names_.begin(), names_.end(), key) == names_.end()) continue;

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <chrono>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,18 +38,22 @@ public:
     /// are watched once each, and stay watched.
     void watch(const std::vector<std::string>& files);
 
-    /// Returns after `milliseconds` if no watched file changed; otherwise once every watched file
-    /// that was written has been closed by its writer (or replaced by a rename, or deleted) and
-    /// nothing has happened to the watched files for kQuietMilliseconds, or once they have been
-    /// changing for kSettleLimitMilliseconds. A change seen by changed_since_wait() is waited for
-    /// here without the `milliseconds`.
+    /// Returns after `milliseconds` if nothing happened in the watched folders. Otherwise it
+    /// returns once every watched file that was written has been closed by its writer (or
+    /// replaced by a rename, or deleted) and nothing has happened to the watched files for
+    /// kQuietMilliseconds (at once if what happened was to other files), or after
+    /// kSettleLimitMilliseconds of changes: then the writers still open are no longer waited for
+    /// (a close, when it comes, is a change like any other). A change seen by
+    /// changed_since_wait() is waited for here without the `milliseconds`.
     void wait(int milliseconds);
 
     /// Whether a watched file has changed since wait() returned, so that what was read from the
     /// files since then may be half written. Every change that a read could have seen is counted:
-    /// the kernel queues a file's event before the call that changed it returns. False after a
-    /// wait() that ended at kSettleLimitMilliseconds, so that a writer that never stops still
-    /// gets its files shown (every two seconds).
+    /// the kernel queues a file's event before the call that changed it returns. False, so that
+    /// what was read is shown all the same, after a wait() that ended at
+    /// kSettleLimitMilliseconds (a writer that keeps its file open), and once it has said true
+    /// for kSettleLimitMilliseconds on end (a writer that saves again and again, faster than a
+    /// load): a writer that never stops still gets its files shown, every two seconds or so.
     bool changed_since_wait();
 
 private:
@@ -64,6 +69,7 @@ private:
     bool pending_ = false;  // changed_since_wait() saw a change that wait() has not waited for
     bool settled_ = true;   // the last wait() ended with the writers done (not at its limit)
     Clock::time_point last_change_;  // the latest event about a watched file
+    std::optional<Clock::time_point> dropping_since_;  // changed_since_wait() has said true since
 };
 
 }  // namespace raycast

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <fstream>
 #include <iterator>
@@ -98,6 +100,44 @@ TEST_F(FileWatcherTest, AWriterThatKeepsWritingIsNotWaitedForPastTheLimit) {
     files_.wait(5000);  // the close: settled
     write(scene(), "Group { numObjects 0 }\n");
     EXPECT_TRUE(files_.changed_since_wait());
+}
+
+// A writer that saves again and again (truncates, writes, closes), faster than a load takes:
+// every wait settles between two saves, and every load sees the next save begin. Its loads are
+// dropped for two seconds at most, then one is shown. (Before, none ever was.)
+TEST_F(FileWatcherTest, AWriterSavingAgainAndAgainStillGetsItsFileShown) {
+    std::atomic<bool> stop{false};
+    std::thread writer([&] {
+        for (int i = 0; !stop.load() && i < 400; ++i) {  // 8 s at most
+            write(scene(), "Group { numObjects 0 } # save " + std::to_string(i) + "\n");
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+    });
+    int dropped = 0;
+    bool shown = false;
+    for (int look = 0; look < 60 && !shown; ++look) {  // 6 s at most
+        files_.wait(200);
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));  // a load
+        if (files_.changed_since_wait()) ++dropped;
+        else shown = true;
+    }
+    stop = true;
+    writer.join();
+    EXPECT_GT(dropped, 0) << "no load saw a save begin: the writer did not keep up";
+    EXPECT_TRUE(shown) << dropped << " loads dropped, none shown";
+}
+
+// A watched name made by a link has no writer and never closes: after one wait to the limit it
+// is no longer waited for (it took every later wait to its limit, and no load was ever dropped).
+TEST_F(FileWatcherTest, ANameWithNoWriterIsWaitedForOnce) {
+    const std::string mesh = dir_ + "/mesh.obj";
+    files_.watch({scene(), mesh});
+    ASSERT_EQ(::symlink("s.txt", mesh.c_str()), 0);  // created, never closed
+    files_.wait(5000);                                // to its limit
+    write(scene(), "Group { numObjects 0 }\n");
+    files_.wait(5000);  // settles: the save is closed, and the link is not waited for again
+    write(scene(), "Group { numObjects 0 }\n");
+    EXPECT_TRUE(files_.changed_since_wait()) << "the second wait went to its limit too";
 }
 
 // A file the scene no longer names is not waited for: its writer's close is never read, and

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <set>
 #include <utility>
 
+#include "base/check.h"
 #include "base/json_writer.h"
 #include "base/limits.h"
 #include "base/parallel.h"
@@ -52,14 +54,16 @@ bool parse_vec3(const std::string& text, Vec3f& v) {
            parse_whole_float(text.substr(b + 1), v.z);
 }
 
-// "lightN", N a light's number written as a whole number is (no sign, no leading zero).
-bool light_index(const std::string& name, int64_t& index) {
-    if (name.compare(0, 5, "light") != 0 || name.size() == 5 || name.size() > 14) return false;
+// "lightN", N a light's number written as a whole number is (no sign, no leading zero); a
+// number too large for `index` is SIZE_MAX, which names no light.
+bool light_index(const std::string& name, size_t& index) {
+    if (name.compare(0, 5, "light") != 0 || name.size() == 5) return false;
     if (name[5] == '0' && name.size() > 6) return false;
     index = 0;
     for (size_t i = 5; i < name.size(); ++i) {
         if (name[i] < '0' || name[i] > '9') return false;
-        index = index * 10 + (name[i] - '0');
+        const size_t digit = static_cast<size_t>(name[i] - '0');
+        index = index > (SIZE_MAX - digit) / 10 ? SIZE_MAX : index * 10 + digit;
     }
     return true;
 }
@@ -164,7 +168,17 @@ struct ViewSession::Request {
     RenderOptions options;
     Conventions conventions;
     CameraDesc camera;
-    std::vector<std::pair<size_t, Vec3f>> light_moves;  // lightN=x,y,z: light N's position or direction
+    struct LightMove {
+        std::string name;  // lightN
+        size_t index;      // N (SIZE_MAX if past it)
+        Vec3f to;          // the position of a point light, the direction of a directional one
+        std::string text;  // the value as the query wrote it
+    };
+    std::vector<LightMove> light_moves;
+    // The description the camera and the lights were checked against, and the one the request
+    // renders: read once, so that a reload in between cannot pair a light's number with a scene
+    // that has fewer lights (that wrote past the end of the lights).
+    std::shared_ptr<const SceneDesc> desc;
     int width = 0, height = 0;
     int x = -1, y = -1;
 };
@@ -231,8 +245,13 @@ bool ViewSession::reload_if_changed(const std::function<bool()>& changed_during_
     std::shared_ptr<const Scene> scene;
     std::vector<Diagnostic> errors;
     std::vector<FileStamp> stamps;
+    // Asked once the files are read (every change the reading could have seen is counted by
+    // then), before the scene is built: a save that began meanwhile drops the load unbuilt. A
+    // save during the build changes nothing read: the stamps below have the next look load it.
+    const auto save_began = [&] { return changed_during_load && changed_during_load(); };
     try {
         desc = std::make_shared<SceneDesc>(load_scene_file(settings_.scene_path, settings_.load));
+        if (save_began()) return false;
         stamps = stamps_of(desc.get());
         SceneBuildOptions build;
         build.width = settings_.width > 0 ? settings_.width : (desc->camera && desc->camera->width > 0 ? 0 : kDefaultViewSide);
@@ -241,17 +260,17 @@ bool ViewSession::reload_if_changed(const std::function<bool()>& changed_during_
         build.threads = settings_.render.threads;
         scene = std::make_shared<const Scene>(build_scene(*desc, build));
     } catch (const InputError& error) {
+        if (!desc && save_began()) return false;  // the read failed, perhaps on a half-written file
         errors = error.diagnostics();
         if (stamps.empty()) stamps = stamps_of(nullptr);
     } catch (const std::bad_alloc&) {
+        if (!desc && save_began()) return false;
         Diagnostic out_of_memory;
         out_of_memory.location.file = settings_.scene_path;
         out_of_memory.message = "out of memory while loading the scene";
         errors.push_back(std::move(out_of_memory));
         if (stamps.empty()) stamps = stamps_of(nullptr);
     }
-    // Asked after the reading: every change the load could have seen has been counted by now.
-    if (changed_during_load && changed_during_load()) return false;
     std::lock_guard<std::mutex> lock(mutex_);
     // Keep watching the meshes of the last good scene too, so that fixing one reloads.
     if (errors.empty()) {
@@ -390,10 +409,10 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
         } else if (name == "size") {
             if (!parse_whole_float(value, number) || !(number > 0)) return fail("must be a positive number");
             size = number;
-        } else if (light_index(name, whole)) {
+        } else if (size_t index = 0; light_index(name, index)) {
             Vec3f v;
             if (!parse_vec3(value, v)) return fail("must be three numbers x,y,z");
-            request.light_moves.push_back({static_cast<size_t>(whole), v});
+            request.light_moves.push_back({name, index, v, value});
         } else if (explaining && (name == "x" || name == "y")) {
             if (!parse_whole_int(value, whole) || whole < 0 || whole >= kMaxViewSide)
                 return fail("must be a pixel's column (x) or row from the top (y)");
@@ -419,6 +438,7 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
     // The camera as the file has it, moved where the query says.
     std::lock_guard<std::mutex> lock(mutex_);
     if (!loaded_.desc || !loaded_.desc->camera) return error = "the scene has not loaded", false;
+    request.desc = loaded_.desc;
     request.camera = *loaded_.desc->camera;
     CameraDesc& camera = request.camera;
     if (has_eye && !(max_abs(eye) <= kMaxCoordinate))
@@ -438,19 +458,21 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
     }
     // The lights the query moves: a point light's position, a directional light's direction.
     const std::vector<LightDesc>& lights = loaded_.desc->lights;
-    for (const auto& [index, v] : request.light_moves) {
-        const std::string name = "parameter 'light" + std::to_string(index) + "'";
-        if (index >= lights.size())
+    for (const Request::LightMove& move : request.light_moves) {
+        const std::string name = "parameter '" + move.name + "'";
+        if (move.index >= lights.size())
             return error = name + (lights.empty() ? ": the scene has no lights"
                                                   : lights.size() == 1 ? ": the scene has one light, light0"
                                                                        : string_printf(": the scene has %zu lights, light0 to light%zu",
                                                                                        lights.size(), lights.size() - 1)),
                    false;
-        if (lights[index].kind == LightDesc::Kind::Directional && is_zero(v))
-            return error = name + " is a directional light's direction, which must not be the zero vector", false;
-        if (lights[index].kind == LightDesc::Kind::Point && !(max_abs(v) <= kMaxCoordinate))
+        if (lights[move.index].kind == LightDesc::Kind::Directional && is_zero(move.to))
+            return error = name + " must not be the zero vector (light" + std::to_string(move.index) +
+                           " is a directional light), got " + shown(move.text),
+                   false;
+        if (lights[move.index].kind == LightDesc::Kind::Point && !(max_abs(move.to) <= kMaxCoordinate))
             return error = name + string_printf(" puts a point light at coordinates of %g, beyond raycast's limit of %g",
-                                                double(max_abs(v)), double(kMaxCoordinate)),
+                                                double(max_abs(move.to)), double(kMaxCoordinate)),
                    false;
     }
     if (is_zero(camera.direction)) return error = "the camera direction must not be the zero vector", false;
@@ -471,11 +493,8 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
 bool ViewSession::prepare(const QueryParameters& query, bool explaining, Prepared& prepared, ViewResponse& refusal) {
     std::string error;
     if (!parse_request(query, explaining, prepared.request, error)) return refusal = text_response(400, error), false;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        prepared.desc = loaded_.desc;
-    }
     const Request& request = prepared.request;
+    prepared.desc = request.desc;  // the description the query was checked against
     prepared.scene = scene_for(prepared.desc, request.conventions, error);
     if (!prepared.scene) return refusal = text_response(503, error), false;
     Camera& camera = prepared.camera;
@@ -488,11 +507,13 @@ bool ViewSession::prepare(const QueryParameters& query, bool explaining, Prepare
     prepared.request.options.camera = &camera;
     if (!request.light_moves.empty()) {
         // As build_scene makes them from the file's lights, moved.
+        // scene_for built (or found) the scene of request.desc, whose lights were checked.
         prepared.lights = prepared.scene->lights;
-        for (const auto& [index, v] : request.light_moves) {
-            Light& light = prepared.lights[index];
-            if (light.kind == Light::Kind::Directional) light.direction = normalize_any_length(v);
-            else light.position = v;
+        RAYCAST_CHECK(prepared.lights.size() == request.desc->lights.size());
+        for (const Request::LightMove& move : request.light_moves) {
+            Light& light = prepared.lights[move.index];
+            if (light.kind == Light::Kind::Directional) light.direction = normalize_any_length(move.to);
+            else light.position = move.to;
         }
         prepared.request.options.lights = &prepared.lights;
     }

@@ -1,9 +1,9 @@
 // The live viewer's state, apart from HTTP: the scene file (reloaded when it or a mesh it names
 // changes on disk, the last good scene kept when the new one has errors), and what the three
 // endpoints answer: /image (a render as PNG or BMP), /explain (a pixel's ray tree as JSON) and
-// /status (JSON: the version, the errors, the camera and the defaults). Query strings choose the
-// render options and move the camera; every value is checked, and a bad one is a 400 that says
-// why. view_server.cpp puts this behind cpp-httplib; tests drive it directly.
+// /status (JSON: the version, the errors, the camera, the lights and the defaults). Query strings
+// choose the render options and move the camera and the lights; every value is checked, and a bad
+// one is a 400 that says why. view_server.cpp puts this behind cpp-httplib; tests drive it directly.
 #pragma once
 
 #include <atomic>

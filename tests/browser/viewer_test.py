@@ -284,6 +284,23 @@ def run(driver, url, scene_path, shots):
     check(displayed_image_bytes(driver) == dragged, "the page does not show /image with the light dragged")
     if shots:
         driver.save_screenshot(os.path.join(shots, "viewer_lights.png"))
+    # A save that moves the other light and recolours this one: the moved light stays where the
+    # drag put it, and the rest is the file's (the other light was sent as it had been).
+    dragged_block = lights_text()
+    with open(scene_path, "w") as f:
+        f.write(scene.replace("PointLight { position 3 5 6 color 0.8 0.8 0.8 }",
+                              "PointLight { position 3 5 6 color 0.8 0.6 0.4 }")
+                .replace("direction -0.3 -1 -0.6", "direction 0.3 -1 -0.6"))
+    wait_for_image(driver, 5, 16)
+    params = driver.execute_script("return renderParams({spp: 16});")
+    check("light0=" in params and "light1" not in params, "after the save, the query is " + params)
+    block = lights_text()
+    check("position " + dragged_block.split("position ")[1].split("\n")[0] in block, "the dragged light moved: %r" % block)
+    check("color 0.8 0.6 0.4" in block and "direction 0.3 -1 -0.6" in block,
+          "the save's colour and direction are not taken: %r" % block)
+    with open(scene_path, "w") as f:
+        f.write(scene)
+    wait_for_image(driver, 6, 16)
     driver.find_element(By.ID, "reset-lights").click()
     wait_until("the reset brings the first image back", lambda: displayed_image_bytes(driver) == first_bytes)
     check("position 3 5 6" in lights_text(), "the reset did not bring the file's lights back")
