@@ -4,8 +4,9 @@
 On a scene this test writes (a mirror ball, a red ball, a floor): the page shows the server's
 image; a click on the mirror ball lists a reflected ray in the ray tree and draws the rays over
 the image; editing the file updates the image; a typo shows the located error and keeps the last
-image; a typed number and a ctrl-drag move a light, and the page shows /image with the light
-there; a drag moves the camera and the camera block follows. Screenshots go to the folder given.
+image; a typed number and a ctrl-drag move a light, the page shows /image with the light there
+and draws the light where the camera sees it, and a save keeps the moved light; a drag moves the
+camera and the camera block follows. Screenshots go to the folder given.
 
     python3 tests/browser/viewer_test.py path/to/raycast [SCREENSHOT_FOLDER]
 
@@ -304,6 +305,21 @@ def run(driver, url, scene_path, shots):
     driver.find_element(By.ID, "reset-lights").click()
     wait_until("the reset brings the first image back", lambda: displayed_image_bytes(driver) == first_bytes)
     check("position 3 5 6" in lights_text(), "the reset did not bring the file's lights back")
+
+    # A point light in view is drawn where the camera sees it: at (1, 0.5, 2), 6 in front of the
+    # camera, x = 160 + 439.6 * 1/6 = 233.3 and, with f_y = 120/tan 20° = 329.7 (the angle spans
+    # both axes), y = 120 - 329.7 * 0.5/6 = 92.5 from the top.
+    for axis, value in zip("xyz", ["1", "0.5", "2"]):
+        driver.execute_script("const f = document.getElementById('light0-' + arguments[0]); f.value = arguments[1];"
+                              "f.dispatchEvent(new Event('change'));", axis, value)
+    marker = lambda: driver.execute_script(
+        "return Array.from(document.getElementById('overlay').getContext('2d').getImageData(233, 92, 1, 1).data);")
+    wait_until("the light is drawn where the camera sees it", lambda: marker() == [255, 230, 128, 255])
+    if shots:
+        driver.execute_script("window.scrollTo(0, 0);")
+        driver.save_screenshot(os.path.join(shots, "viewer_light_marker.png"))
+    driver.find_element(By.ID, "reset-lights").click()
+    wait_until("the reset brings the first image back again", lambda: displayed_image_bytes(driver) == first_bytes)
 
     # A drag orbits the camera: a new image, and the camera block follows.
     block_before = driver.find_element(By.ID, "camera-text").get_attribute("value")
