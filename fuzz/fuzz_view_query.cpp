@@ -1,7 +1,8 @@
 // Fuzz target: the live viewer's requests. The input is the query string of a request
 // ("mode=ao&eye=1,2,3&light0=..."), read as `raycast view` reads it (parse_query), then answered
 // by a ViewSession on a small scene (two lights, a mirror sphere, a glass sphere, a plane, a
-// transformed triangle mesh) as /image, /explain and /status would answer it. The viewer is the
+// transformed triangle mesh) as /image, /explain and /status would answer it. An input that
+// starts with '~' is the rest of it asked of the same scene through an orthographic camera. The viewer is the
 // part of raycast that takes input from a network, so every query must end in an answer.
 // Anything but these outcomes is a finding (a crash, a sanitizer report, a failed
 // RAYCAST_DCHECK, a hang, an exception):
@@ -13,7 +14,8 @@
 // Renders are kept small so that the fuzzer keeps its pace: a width or height, samples,
 // ambient-occlusion rays or bounces beyond a small number, in a query that asks for them
 // correctly, are lowered before the image is asked for (the refusals of values out of range are
-// still fuzzed: those go through as written).
+// still fuzzed: those go through as written). /explain traces one pixel whatever the size, so it
+// gets the width and height as written.
 #include <unistd.h>
 
 #include <cstdint>
@@ -64,9 +66,10 @@ Group {
     std::abort();
 }
 
-ViewSession* session = nullptr;
+ViewSession* sessions[2] = {nullptr, nullptr};  // perspective, orthographic
 
-ViewSession& the_session() {
+ViewSession& the_session(bool orthographic) {
+    ViewSession*& session = sessions[orthographic ? 1 : 0];
     if (session) return *session;
     char folder[] = "/tmp/raycast-fuzz-view-XXXXXX";
     if (!::mkdtemp(folder)) finding("no temporary folder", "", "");
@@ -75,7 +78,12 @@ ViewSession& the_session() {
         FILE* file = std::fopen(path.c_str(), "wb");
         if (!file || std::fputs(text, file) < 0 || std::fclose(file) != 0) finding("cannot write the scene", "", path);
     };
-    write(dir + "/s.txt", kScene);
+    std::string scene = kScene;
+    if (orthographic) {
+        const size_t camera_end = scene.find("}\n") + 2;
+        scene.replace(0, camera_end, "OrthographicCamera {\n    center 0 1 9  direction 0 -0.1 -1  up 0 1 0  size 6  width 8  height 6\n}\n");
+    }
+    write(dir + "/s.txt", scene.c_str());
     write(dir + "/quad.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3 4\n");
     ViewSettings settings;
     settings.scene_path = dir + "/s.txt";
@@ -112,20 +120,23 @@ void check_answer(const ViewResponse& answer, const std::string& query, const ch
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size > 4096) return 0;
-    const std::string query(reinterpret_cast<const char*>(data), size);
-    ViewSession& view = the_session();
+    std::string query(reinterpret_cast<const char*>(data), size);
+    const bool orthographic = !query.empty() && query[0] == '~';
+    if (orthographic) query.erase(0, 1);
+    ViewSession& view = the_session(orthographic);
     QueryParameters parameters;
     std::string error;
     if (!parse_query("/image?" + query, parameters, error)) {
         if (error.empty()) finding("a query refused without a reason", query, "");
         return 0;
     }
-    lower(parameters, "width", 12);
-    lower(parameters, "height", 12);
     lower(parameters, "spp", 4);
     lower(parameters, "ao_samples", 8);
     lower(parameters, "bounces", 4);
-    const ViewResponse image = view.image(parameters);
+    QueryParameters small = parameters;
+    lower(small, "width", 12);
+    lower(small, "height", 12);
+    const ViewResponse image = view.image(small);
     check_answer(image, query, "/image");
     if (image.status == 200) {
         const std::string& body = image.body;

@@ -91,7 +91,8 @@ for query in \
   'x=3&y=2&bounces=2&shadows=1&spp=1' \
   'conventions=mit6837&shade_back=1&mode=normals&width=10&height=7' \
   'mode=cost' 'mode=depth' 'mode=material&weight=0.5' 'size=2' 'light2=1,2,3' 'light1=0,0,0' \
-  'eye=1e30,0,0' 'spp=1=2' 'width=%38' 'a=1&&b=2'; do
+  'eye=1e30,0,0' 'spp=1=2' 'width=%38' 'a=1&&b=2' '~size=3&eye=0,2,20&light0=0,1,1&shadows=1' \
+  '~conventions=mit6837&mode=depth'; do
   printf '%s' "$query" >"$query_dir/seed-$n"
   n=$((n + 1))
 done

@@ -337,7 +337,10 @@ TEST_F(ViewTest, ALightMovedByTheQueryGivesTheImageOfTheFileWithItThere) {
 // A save that removes a light while requests still name it: each request is checked against the
 // description it renders. (The lights were checked against the scene as it was when the query was
 // read, and the render took the scene loaded by then: with one light fewer, light1 was written
-// past the end of the lights; AddressSanitizer saw it.)
+// past the end of the lights.) A race, so a stress test: 200 saves against requests in a loop.
+// Under AddressSanitizer (tools/test.sh --sanitize, which CI runs) the code before the fix wrote
+// past the lights in 2 of 3 runs; a plain build does not notice such a write, and a Release run
+// of the old code passed it (a second review's finding). Every answer is a 200, a 400 or a 503.
 TEST_F(ViewTest, ALightRemovedByASaveWhileRequestsNameItIsRefusedNotWrittenPast) {
     const std::string dir = scene_dir("light_removed");
     ViewSession session(session_settings(dir));
@@ -353,14 +356,11 @@ TEST_F(ViewTest, ALightRemovedByASaveWhileRequestsNameItIsRefusedNotWrittenPast)
         }
         done = true;
     });
-    int answered = 0, refused = 0;
     while (!done.load()) {
         const ViewResponse response = session.explain({{"light1", "1,2,3"}, {"x", "3"}, {"y", "3"}});
         ASSERT_TRUE(response.status == 200 || response.status == 400 || response.status == 503) << response.status;
-        (response.status == 200 ? answered : refused) += 1;
     }
     saver.join();
-    EXPECT_GT(answered + refused, 0);
     write_file(dir + "/s.txt", one_light);  // a good scene: the race was between two good loads
     ASSERT_TRUE(session.reload_if_changed());
     EXPECT_TRUE(session.diagnostics().empty());

@@ -385,7 +385,11 @@ int run_view(const CliOptions& options) {
     settings.aperture = options.aperture;
     settings.focus_distance = options.has_focus_distance ? options.focus_distance : 0;
     ViewSession session(settings);
-    session.reload_if_changed();
+    // Watched from before the first load: a save that begins during it (or before the server's
+    // loop has started) is seen, and that load dropped as the loop's are.
+    FileWatcher files;
+    files.watch({settings.scene_path});
+    session.reload_if_changed([&] { return files.changed_since_wait(); });
     if (!options.quiet) {
         for (const std::string& note : options.notes) std::fprintf(stderr, "raycast: note: %s\n", note.c_str());
         print_diagnostics(session.diagnostics());
@@ -398,7 +402,7 @@ int run_view(const CliOptions& options) {
     ViewServerOptions server;
     server.host = options.view_host;
     server.port = options.view_port;
-    run_view_server(session, server, [&](const std::string& url) {
+    run_view_server(session, files, server, [&](const std::string& url) {
         // The URL alone on stdout, for scripts; the rest for people, on stderr.
         std::printf("%s\n", url.c_str());
         std::fflush(stdout);

@@ -61,6 +61,10 @@ void FileWatcher::watch(const std::vector<std::string>& files) {
 }
 
 void FileWatcher::wait(int milliseconds) {
+    // A look that asked nothing (the session found nothing to load) ends a run of dropped loads:
+    // the next drop starts a new one, with two seconds of its own.
+    if (!asked_since_wait_) dropping_since_.reset();
+    asked_since_wait_ = false;
     if (fd_ < 0) {
         std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds));
         return;
@@ -99,6 +103,7 @@ void FileWatcher::wait(int milliseconds) {
 
 bool FileWatcher::changed_since_wait() {
     if (fd_ < 0) return false;
+    asked_since_wait_ = true;
     if (read_events()) pending_ = true;
     const Clock::time_point now = Clock::now();
     if (pending_ && settled_) {

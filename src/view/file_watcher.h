@@ -70,6 +70,7 @@ private:
     bool settled_ = true;   // the last wait() ended with the writers done (not at its limit)
     Clock::time_point last_change_;  // the latest event about a watched file
     std::optional<Clock::time_point> dropping_since_;  // changed_since_wait() has said true since
+    bool asked_since_wait_ = false;  // changed_since_wait() was called after the last wait()
 };
 
 }  // namespace raycast

@@ -127,6 +127,20 @@ TEST_F(FileWatcherTest, AWriterSavingAgainAndAgainStillGetsItsFileShown) {
     EXPECT_TRUE(shown) << dropped << " loads dropped, none shown";
 }
 
+// A run of dropped loads ends when a look finds nothing to load (a file moved away and back
+// keeps its time and size): a save two seconds later is a new run, and its load is dropped.
+// (The run's start was kept, and that save's half-written file was shown.)
+TEST_F(FileWatcherTest, ALookThatLoadsNothingEndsARunOfDroppedLoads) {
+    ASSERT_EQ(::rename(scene().c_str(), (dir_ + "/moved.txt").c_str()), 0);
+    ASSERT_EQ(::rename((dir_ + "/moved.txt").c_str(), scene().c_str()), 0);
+    EXPECT_TRUE(files_.changed_since_wait());  // a load dropped
+    files_.wait(0);  // the looks after it find the file as it was, load nothing and ask nothing
+    files_.wait(0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(FileWatcher::kSettleLimitMilliseconds + 100));
+    std::ofstream out(scene(), std::ios::trunc);  // a save begins while a load reads the file
+    EXPECT_TRUE(files_.changed_since_wait()) << "the half-written file would be shown";
+}
+
 // A watched name made by a link has no writer and never closes: after one wait to the limit it
 // is no longer waited for (it took every later wait to its limit, and no load was ever dropped).
 TEST_F(FileWatcherTest, ANameWithNoWriterIsWaitedForOnce) {

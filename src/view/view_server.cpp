@@ -196,7 +196,7 @@ const char* reason(int status) {
 
 bool view_server_available() { return true; }
 
-void run_view_server(ViewSession& session, const ViewServerOptions& options,
+void run_view_server(ViewSession& session, FileWatcher& files, const ViewServerOptions& options,
                      const std::function<void(const std::string& url)>& listening) {
     // SIGINT and SIGTERM go to one thread, which stops the server; every other thread (the
     // server's workers, the renderers) inherits the blocked mask.
@@ -291,7 +291,6 @@ void run_view_server(ViewSession& session, const ViewServerOptions& options,
         // Every 200 ms the files are looked at anyway (see FileWatcher). A load that a save began
         // during is dropped: the next wait lets the writer finish, and the load after it shows the
         // save.
-        FileWatcher files;
         while (running.load()) {
             files.watch(session.watched_files());
             files.wait(200);
@@ -321,7 +320,7 @@ namespace raycast {
 
 bool view_server_available() { return false; }
 
-void run_view_server(ViewSession&, const ViewServerOptions&, const std::function<void(const std::string&)>&) {
+void run_view_server(ViewSession&, FileWatcher&, const ViewServerOptions&, const std::function<void(const std::string&)>&) {
     throw InputError("raycast view",
                      "this raycast was built without cpp-httplib, which the viewer needs: install it "
                      "(Debian/Ubuntu: sudo apt-get install libcpp-httplib-dev pkg-config) and rebuild");

@@ -6,6 +6,7 @@
 #include <functional>
 #include <string>
 
+#include "view/file_watcher.h"
 #include "view/view_session.h"
 
 namespace raycast {
@@ -18,9 +19,10 @@ struct ViewServerOptions {
 /// Whether this build has the HTTP server (cpp-httplib was found).
 bool view_server_available();
 
-/// Serves `session` until SIGINT or SIGTERM. Calls `listening` with the page's URL once the port
-/// is open. Throws InputError when the address cannot be used.
-void run_view_server(ViewSession& session, const ViewServerOptions& options,
+/// Serves `session` until SIGINT or SIGTERM, reloading it when `files` (watching its scene file
+/// since before its first load, so that no save is missed) sees a change. Calls `listening` with
+/// the page's URL once the port is open. Throws InputError when the address cannot be used.
+void run_view_server(ViewSession& session, FileWatcher& files, const ViewServerOptions& options,
                      const std::function<void(const std::string& url)>& listening);
 
 }  // namespace raycast

@@ -308,13 +308,23 @@ def run(driver, url, scene_path, shots):
 
     # A point light in view is drawn where the camera sees it: at (1, 0.5, 2), 6 in front of the
     # camera, x = 160 + 439.6 * 1/6 = 233.3 and, with f_y = 120/tan 20° = 329.7 (the angle spans
-    # both axes), y = 120 - 329.7 * 0.5/6 = 92.5 from the top.
+    # both axes), y = 120 + 329.7 * 0.5/6 = 147.5 from the bottom; pixel x's ray is at x (the
+    # course's pixel offset 0), so the light is in pixel column 233 and row 240 - 148 = 92.
     for axis, value in zip("xyz", ["1", "0.5", "2"]):
         driver.execute_script("const f = document.getElementById('light0-' + arguments[0]); f.value = arguments[1];"
                               "f.dispatchEvent(new Event('change'));", axis, value)
     marker = lambda: driver.execute_script(
         "return Array.from(document.getElementById('overlay').getContext('2d').getImageData(233, 92, 1, 1).data);")
     wait_until("the light is drawn where the camera sees it", lambda: marker() == [255, 230, 128, 255])
+    # With the angle spanning the height alone, f_x = f_y = 329.7: column 160 + 329.7/6 = 214.9.
+    driver.execute_script("const f = document.getElementById('fov'); f.value = 'vertical';"
+                          "f.dispatchEvent(new Event('change'));")
+    marker = lambda: driver.execute_script(
+        "return Array.from(document.getElementById('overlay').getContext('2d').getImageData(214, 92, 1, 1).data);")
+    wait_until("the light is drawn where the camera with a vertical angle sees it",
+               lambda: marker() == [255, 230, 128, 255])
+    driver.execute_script("const f = document.getElementById('fov'); f.value = 'both';"
+                          "f.dispatchEvent(new Event('change'));")
     if shots:
         driver.execute_script("window.scrollTo(0, 0);")
         driver.save_screenshot(os.path.join(shots, "viewer_light_marker.png"))
