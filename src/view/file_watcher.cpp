@@ -87,17 +87,16 @@ void FileWatcher::wait(int milliseconds) {
             return;
         }
         // With no watched file open for writing, done once none has changed for a moment (other
-        // files in the folders, an editor's swap file, do not count).
+        // files in the folders, an editor's swap file, do not count); else wait for the writers.
+        Clock::time_point until = limit;
         if (writing_.empty()) {
-            const Clock::time_point quiet_until = last_change_ + std::chrono::milliseconds(kQuietMilliseconds);
-            if (now >= quiet_until) {
+            until = last_change_ + std::chrono::milliseconds(kQuietMilliseconds);
+            if (now >= until) {
                 settled_ = true;
                 return;
             }
-            readable_within(fd_, static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(quiet_until - now).count()));
-        } else {
-            readable_within(fd_, static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(limit - now).count()));
         }
+        readable_within(fd_, static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(until - now).count()));
     }
 }
 

@@ -184,9 +184,8 @@ struct ViewSession::Request {
 };
 
 struct ViewSession::Prepared {
-    Request request;
-    std::shared_ptr<const SceneDesc> desc;
-    std::shared_ptr<const Scene> scene;
+    Request request;                     // request.desc is the description it renders
+    std::shared_ptr<const Scene> scene;  // built from request.desc
     Camera camera;              // request.options.camera points here
     std::vector<Light> lights;  // request.options.lights points here when the query moved one
 };
@@ -494,8 +493,7 @@ bool ViewSession::prepare(const QueryParameters& query, bool explaining, Prepare
     std::string error;
     if (!parse_request(query, explaining, prepared.request, error)) return refusal = text_response(400, error), false;
     const Request& request = prepared.request;
-    prepared.desc = request.desc;  // the description the query was checked against
-    prepared.scene = scene_for(prepared.desc, request.conventions, error);
+    prepared.scene = scene_for(request.desc, request.conventions, error);
     if (!prepared.scene) return refusal = text_response(503, error), false;
     Camera& camera = prepared.camera;
     camera = make_camera(request.camera, request.width, request.height, request.conventions);
@@ -548,13 +546,14 @@ ViewResponse ViewSession::explain(const QueryParameters& query) {
     if (!prepare(query, true, prepared, refusal)) return refusal;
     const Request& request = prepared.request;
     PixelExplanation explanation = explain_pixel(*prepared.scene, request.options, request.x, request.y);
-    explanation.scene = prepared.desc->file;
+    explanation.scene = request.desc->file;
     return json_response(explanation_json(explanation));
 }
 
 ViewResponse ViewSession::status() const {
     std::lock_guard<std::mutex> lock(mutex_);
     JsonWriter json;
+    const auto vec = [&](const char* name, Vec3f v) { json.numbers_field(name, {v.x, v.y, v.z}); };
     json.open('{');
     json.integer_field("version", static_cast<long long>(loaded_.version));
     json.field("scene", settings_.scene_path);
@@ -582,7 +581,6 @@ ViewResponse ViewSession::status() const {
     json.key("camera");
     if (loaded_.desc && loaded_.desc->camera) {
         const CameraDesc& c = *loaded_.desc->camera;
-        const auto vec = [&](const char* name, Vec3f v) { json.numbers_field(name, {v.x, v.y, v.z}); };
         json.open('{');
         json.field("kind", std::string(c.kind == CameraDesc::Kind::Perspective ? "PerspectiveCamera" : "OrthographicCamera"));
         vec("center", c.center);
@@ -617,7 +615,6 @@ ViewResponse ViewSession::status() const {
     if (loaded_.desc) {
         json.open('[');
         for (const LightDesc& light : loaded_.desc->lights) {
-            const auto vec = [&](const char* name, Vec3f v) { json.numbers_field(name, {v.x, v.y, v.z}); };
             json.item();
             json.open('{');
             const bool point = light.kind == LightDesc::Kind::Point;
