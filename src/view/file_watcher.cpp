@@ -6,29 +6,15 @@
 #include <thread>
 
 #if __has_include(<sys/inotify.h>)
-#include <poll.h>
 #include <sys/inotify.h>
 #include <unistd.h>
 #define RAYCAST_HAVE_INOTIFY 1
+#include "view/poll_one.h"
 #endif
 
 namespace raycast {
 
 #ifdef RAYCAST_HAVE_INOTIFY
-
-namespace {
-
-// Whether `fd` has something to read within `milliseconds` (0: only what is there now).
-bool readable_within(int fd, int milliseconds) {
-    pollfd watched{fd, POLLIN, 0};
-    for (;;) {
-        const int ready = ::poll(&watched, 1, std::max(milliseconds, 0));
-        if (ready < 0 && errno == EINTR) continue;
-        return ready > 0 && (watched.revents & POLLIN) != 0;
-    }
-}
-
-}  // namespace
 
 FileWatcher::FileWatcher() : fd_(inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {}
 
@@ -69,7 +55,7 @@ void FileWatcher::wait(int milliseconds) {
         std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds));
         return;
     }
-    if (!pending_ && !readable_within(fd_, milliseconds)) {
+    if (!pending_ && (poll_one(fd_, POLLIN, milliseconds) & POLLIN) == 0) {
         settled_ = true;  // nothing written for a while
         return;
     }
@@ -96,7 +82,7 @@ void FileWatcher::wait(int milliseconds) {
                 return;
             }
         }
-        readable_within(fd_, static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(until - now).count()));
+        poll_one(fd_, POLLIN, static_cast<int>(std::chrono::ceil<std::chrono::milliseconds>(until - now).count()));
     }
 }
 

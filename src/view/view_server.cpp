@@ -2,13 +2,13 @@
 
 #include "base/error.h"
 #include "view/file_watcher.h"
+#include "view/poll_one.h"
 
 #ifdef RAYCAST_HAVE_HTTPLIB
 
 #include <httplib.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
-#include <poll.h>
 #include <pthread.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -54,13 +54,10 @@ int milliseconds_until(Clock::time_point deadline) {
     return left > 0 ? static_cast<int>(left) : 0;
 }
 
+// Whether `events` (or a hang-up or error, which the next read or write reports) came on `socket`
+// within `milliseconds`.
 bool wait_for(int socket, short events, int milliseconds) {
-    pollfd fd{socket, events, 0};
-    for (;;) {
-        const int ready = ::poll(&fd, 1, milliseconds);
-        if (ready < 0 && errno == EINTR) continue;
-        return ready > 0 && (fd.revents & (events | POLLHUP | POLLERR)) != 0;
-    }
+    return (poll_one(socket, events, milliseconds) & (events | POLLHUP | POLLERR)) != 0;
 }
 
 // A connection's socket as httplib reads and writes it, with a budget: each request may read
