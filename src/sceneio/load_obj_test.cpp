@@ -750,6 +750,21 @@ TEST(LoadObjChunks, ThreadsGiveTheSameLargeMesh) {
     EXPECT_EQ(describe_difference(one, parse(obj.text, -3)), "");
 }
 
+// A file of 1 MiB or more is read by every thread at once, each a range of it
+// (read_ranges_at_once): the mesh is the text's, whatever the number of ranges.
+TEST(LoadObjFile, ALargeFileReadByEveryThreadAtOnceGivesTheSameMesh) {
+    const GeneratedObj obj = make_grid_obj(300);
+    ASSERT_GT(obj.text.size(), size_t{8} << 20);
+    const std::string path = write_temp_file("grid.obj", obj.text);
+    const TriangleMesh reference = parse(obj.text, 1);
+    for (int threads : {1, 2, 3, 7}) {
+        ObjLoadOptions options;
+        options.threads = threads;
+        EXPECT_EQ(describe_difference(reference, load_obj_file(path, options)), "") << threads << " threads";
+    }
+    std::remove(path.c_str());
+}
+
 TEST(LoadObjChunks, ThreadsGiveTheSameLateErrors) {
     GeneratedObj obj = make_grid_obj(300, 250);
     add_line(obj, "v 1 2\n");  // the very last line, a vertex short of a number
