@@ -554,7 +554,15 @@ private:
             float right_cost[kMaxBins];
             Bounds3f accumulated;
             uint32_t accumulated_count = 0;
+            // An empty bin changes neither side, so the planes at its edges cost the same: its
+            // plane keeps the cost found beside it, and the left sweep passes over the plane
+            // above it (a plane only wins at a strictly lower cost, so the first of equal ones
+            // stays the choice). Most nodes are small, with more bins than primitives.
             for (int plane = bin_count_ - 1; plane > 0; --plane) {
+                if (axis_bins[plane].count == 0 && plane + 1 < bin_count_) {
+                    right_cost[plane] = right_cost[plane + 1];
+                    continue;
+                }
                 accumulated.grow(axis_bins[plane].bounds);
                 accumulated_count += axis_bins[plane].count;
                 right_cost[plane] = accumulated.half_area() * leaf_tests(accumulated_count);
@@ -562,6 +570,7 @@ private:
             accumulated = Bounds3f{};
             accumulated_count = 0;
             for (int plane = 1; plane < bin_count_; ++plane) {
+                if (axis_bins[plane - 1].count == 0) continue;
                 accumulated.grow(axis_bins[plane - 1].bounds);
                 accumulated_count += axis_bins[plane - 1].count;
                 if (accumulated_count == 0 || accumulated_count == range.size()) continue;
