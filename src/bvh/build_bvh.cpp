@@ -441,9 +441,14 @@ private:
         BvhNode& node = sink.nodes[root];
         node.bounds = pad_box(range.bounds);
         const uint32_t count = range.size();
+        // A split costs the traversal plus terms that are never negative, so a leaf that costs no
+        // more than the traversal beats every split, and such a range needs no SAH: with leaves of
+        // up to 8 triangles tested 8 at a time, every mesh leaf, about half the nodes.
+        const bool fits_leaf = count <= static_cast<uint32_t>(max_leaf_);
+        const bool leaf_beats_any_split = fits_leaf && leaf_tests(count) <= options_.traversal_cost;
         Split split;
-        if (count > 1 && depth < kMaxSahDepth) split = find_sah_split(range);
-        if (count <= static_cast<uint32_t>(max_leaf_) && (split.axis < 0 || leaf_tests(count) <= split.cost)) {
+        if (count > 1 && depth < kMaxSahDepth && !leaf_beats_any_split) split = find_sah_split(range);
+        if (leaf_beats_any_split || (fits_leaf && (split.axis < 0 || leaf_tests(count) <= split.cost))) {
             node.first = range.begin;
             node.count = count;
             return;

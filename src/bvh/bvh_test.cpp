@@ -175,12 +175,22 @@ TEST(BvhBuild, TreeInvariantsHoldForManyShapesOfInput) {
     std::mt19937 rng(12);
     struct Config {
         int max_leaf, bins;
+        float traversal_cost = 1;
+        int leaf_test_width = 1;
     };
-    for (const Config config : {Config{4, 16}, Config{1, 2}, Config{2, 32}, Config{8, 7}, Config{3, 1000}}) {
+    // The last two: a mesh's settings, whose leaves beat any split and so get no SAH; and leaves
+    // so cheap against the traversal that one of up to 24 would beat any split, yet none may hold
+    // more than max_leaf.
+    for (const Config config : {Config{4, 16}, Config{1, 2}, Config{2, 32}, Config{8, 7}, Config{3, 1000},
+                                Config{8, 16, 1, 8}, Config{8, 16, 3, 8}}) {
         BvhBuildOptions options;
         options.max_leaf_size = config.max_leaf;
         options.bin_count = config.bins;
-        SCOPED_TRACE("max_leaf " + std::to_string(config.max_leaf) + ", bins " + std::to_string(config.bins));
+        options.traversal_cost = config.traversal_cost;
+        options.leaf_test_width = config.leaf_test_width;
+        SCOPED_TRACE("max_leaf " + std::to_string(config.max_leaf) + ", bins " + std::to_string(config.bins) +
+                     ", traversal cost " + std::to_string(config.traversal_cost) + ", leaf test width " +
+                     std::to_string(config.leaf_test_width));
         for (size_t count : {size_t{1}, size_t{2}, size_t{3}, size_t{5}, size_t{17}, size_t{100}, size_t{3000}}) {
             SCOPED_TRACE("random boxes: " + std::to_string(count));
             const std::vector<BvhPrimitive> prims = random_boxes(rng, count, 10, 2);
