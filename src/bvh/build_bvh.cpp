@@ -603,16 +603,58 @@ private:
     void partition(const Range& range, Split& split) const {
         const Binning binning = binning_for(range);
         const int axis = split.axis;
-        auto goes_left = [&](const BvhPrimitive& p) { return binning.bin_of(centroid(p.bounds)[axis], axis) < split.bin; };
         BvhPrimitive* first = primitives_ + range.begin;
         BvhPrimitive* last = primitives_ + range.end;
         Bounds3f left_centroids, right_centroids;
+#if defined(__SSE2__)
+        // Each centroid made once, in one register (as fill_bins makes it, lane by lane the
+        // scalar centroid()), and the centroid boxes grown with minps/maxps, whose rule for a NaN
+        // is Bounds3f::grow's (min_ignoring_nan): the same boxes as the scalar loop below.
+        const __m128 half = _mm_set1_ps(0.5f);
+        auto centre = [half](const BvhPrimitive& p) {
+            const float* box = &p.bounds.lower.x;  // lower.xyz + upper.x, upper.xyz + id
+            return _mm_mul_ps(_mm_add_ps(_mm_loadu_ps(box), _mm_loadu_ps(box + 3)), half);
+        };
+        auto left_of = [&](__m128 c) {
+            alignas(16) float lanes[4];
+            _mm_store_ps(lanes, c);
+            return binning.bin_of(lanes[axis], axis) < split.bin;
+        };
+        __m128 left_lower = _mm_set1_ps(INFINITY), left_upper = _mm_set1_ps(-INFINITY);
+        __m128 right_lower = left_lower, right_upper = left_upper;
+        for (;;) {
+            for (; first != last; ++first) {
+                const __m128 c = centre(*first);
+                if (!left_of(c)) break;
+                left_lower = _mm_min_ps(c, left_lower);
+                left_upper = _mm_max_ps(c, left_upper);
+            }
+            for (; first != last; --last) {
+                const __m128 c = centre(*(last - 1));
+                if (left_of(c)) break;
+                right_lower = _mm_min_ps(c, right_lower);
+                right_upper = _mm_max_ps(c, right_upper);
+            }
+            if (first == last) break;
+            std::swap(*first, *(last - 1));
+        }
+        auto to_box = [](__m128 lower, __m128 upper) {
+            alignas(16) float lo[4], hi[4];
+            _mm_store_ps(lo, lower);
+            _mm_store_ps(hi, upper);
+            return Bounds3f{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+        };
+        left_centroids = to_box(left_lower, left_upper);
+        right_centroids = to_box(right_lower, right_upper);
+#else
+        auto goes_left = [&](const BvhPrimitive& p) { return binning.bin_of(centroid(p.bounds)[axis], axis) < split.bin; };
         for (;;) {
             while (first != last && goes_left(*first)) left_centroids.grow(centroid((first++)->bounds));
             while (first != last && !goes_left(*(last - 1))) right_centroids.grow(centroid((--last)->bounds));
             if (first == last) break;
             std::swap(*first, *(last - 1));
         }
+#endif
         const uint32_t mid = static_cast<uint32_t>(first - primitives_);
         split.left.begin = range.begin;
         split.left.end = mid;
