@@ -21,9 +21,10 @@
 // With --paired N, neither of the above: both scenes stay in memory, and N pairs of passes compare
 // Embree's rays with raycast's renders as the command line makes them (shaded, an image written to
 // memory): rtcIntersect1 with --no-packets, rtcIntersect1 + rtcOccluded1 with --mode ao, and
-// rtcIntersect16 with the packet render. The two passes of a pair run a moment apart, the first of
-// them in turn, so that the machine's drift over minutes (10-30% on a shared virtual machine) falls
-// on both; each pair gives the ratio of raycast's Mrays/s to Embree's.
+// rtcIntersect16 with the packet render. The two passes of a pair run a moment apart (each after a
+// rest of 60 ms and an untimed pass of its own: pass_at_rest), the first of them in turn, so that
+// the machine's drift over minutes (10-30% on a shared virtual machine) falls on both; each pair
+// gives the ratio of raycast's Mrays/s to Embree's.
 // Prints key=value pairs (one line); exits 3 when the hit fraction of rtcIntersect1 differs from
 // --expect-hit-fraction (raycast's, at the 4 digits raycast prints). Embree's two paths need not
 // agree to the ray: rtcIntersect16 may differ by a ray or two on silhouette edges, so
@@ -37,6 +38,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -48,6 +50,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "base/parallel.h"
 #include "base/timer.h"
 #include "math/mat4.h"
 #include "render/render.h"
@@ -543,14 +546,30 @@ TraceResult render_pass(const Scene& scene, const RenderOptions& options) {
     return result;
 }
 
+// Each pass of a pair starts with the other's threads at rest, and right after an untimed pass of
+// its own. raycast's helper threads stay awake for a while after a render, yielding their
+// processors between looks (base/parallel.h): an Embree pass that followed at once shared the two
+// processors with them, and the pairs in which raycast went first read up to twice as fast as
+// those in which Embree did (1k triangles, packets: 1.4-1.8 against 0.6-0.9). So each pass waits
+// until they sleep. The untimed pass then puts each side as it is in its own runs, where one pass
+// follows another: the processors awake, and raycast's helpers awake as the command line's load
+// and build leave them for its render. (Waking only raycast's helpers before its render, untimed,
+// had moved the pairs' ratios by more than the margins in question.)
+template <typename PassFn>
+TraceResult pass_at_rest(PassFn&& pass) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(3 * kHelperStayAwakeMilliseconds));
+    pass();
+    return pass();
+}
+
 // `pairs` pairs of one Embree pass and one raycast render, after one of each unrecorded (the first
 // touches of memory); which of the two goes first alternates from pair to pair. Prints, as
 // " paired_NAME=r1,r2,... paired_NAME_best=b", the pairs' ratios of raycast's Mrays/s to
 // Embree's and the ratio of the two sides' best passes.
 template <typename EmbreeFn, typename RaycastFn>
-void print_paired(const char* name, int pairs, EmbreeFn&& embree, RaycastFn&& raycast) {
-    embree();
-    raycast();
+void print_paired(const char* name, int pairs, EmbreeFn&& embree_fn, RaycastFn&& raycast_fn) {
+    auto embree = [&] { return pass_at_rest(embree_fn); };
+    auto raycast = [&] { return pass_at_rest(raycast_fn); };
     std::string ratios;
     double best_embree = 0, best_raycast = 0;
     for (int pair = 0; pair < pairs; ++pair) {

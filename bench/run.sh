@@ -566,7 +566,7 @@ ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "n/a" || b == "n/a" || a == 
     echo
     echo "Issue #14 (every kind of ray), then the earlier issue's targets."
     echo
-    echo "The verdict compares the best of each figure's $repeat runs. \"Per round\" compares the figures of each round, taken seconds apart (the best figures may come from rounds minutes apart): the rounds in which the target was met, and the median of the rounds' ratios of measured to goal (for the load and build targets, each turn's raycast time over the baseline's: at most 1 meets them). \"Paired\" compares, in one process holding both scenes, $turns pairs of an Embree pass and a raycast render taken a moment apart: the pairs in which raycast was at least as fast, the median of the pairs' ratios, and the ratio of the two sides' best passes."
+    echo "The verdict compares the best of each figure's $repeat runs. \"Per round\" compares the figures of each round, taken seconds apart (the best figures may come from rounds minutes apart): the rounds in which the target was met, and the median of the rounds' ratios of measured to goal (for the load and build targets, each turn's raycast time over the baseline's: at most 1 meets them). \"Paired\" compares, in one process holding both scenes, $turns pairs of an Embree pass and a raycast render taken a moment apart (each after a rest and an untimed pass of its own): the pairs in which raycast was at least as fast, the median of the pairs' ratios, and the ratio of the two sides' best passes."
     echo
     echo "| target | measured | goal | verdict | per round | paired |"
     echo "|---|---:|---:|---|---|---|"

@@ -112,7 +112,7 @@ public:
     }
 
 private:
-    static constexpr std::chrono::milliseconds kStayAwake{20};
+    static constexpr std::chrono::milliseconds kStayAwake{kHelperStayAwakeMilliseconds};
 
     // Whether this thread is working on a pool job (as its caller or as a helper).
     static thread_local bool t_in_job;

@@ -11,6 +11,10 @@ namespace raycast {
 /// The number of hardware threads, at least 1.
 int hardware_threads();
 
+/// How long a helper thread that worked on a call stays awake for the next one, yielding its
+/// processor between looks, before it sleeps (parallel.cpp says why).
+constexpr int kHelperStayAwakeMilliseconds = 20;
+
 /// Calls work(item, worker) for every item in [0, count) on up to `threads` threads (the caller's
 /// thread among them); worker is in [0, threads). Returns when all items are done. If a call
 /// throws, the remaining items are skipped and the first exception is rethrown here. Calls made
