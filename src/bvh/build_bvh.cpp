@@ -236,7 +236,7 @@ public:
     // 2. builds the pieces, each serially, as many at once as there are threads. After this the
     // primitives are in their final order and no longer needed.
     void build_pieces(const Range& all) {
-        root_ = split_top(all, 0);
+        split_top_into_pieces(all);
         // Every piece gets room for its largest possible tree (2n - 1 nodes for n primitives) in
         // one pool. Only the pages a piece fills are ever touched, so the pool costs about what the
         // nodes do; and being one allocation, it goes back to the system when freed.
@@ -271,7 +271,7 @@ public:
     // space and collapsed at once, so only the wide nodes are kept (about a quarter of the
     // binary tree's bytes). After this the primitives are in their final order.
     void build_wide_pieces(const Range& all) {
-        root_ = split_top(all, 0);
+        split_top_into_pieces(all);
         wide_pieces_.resize(pieces_.size());
         // Each thread reuses its own room for a piece's binary and wide nodes; a piece keeps an
         // exact-size copy of its wide nodes, so that no slack of a growing vector (half as much
@@ -383,24 +383,72 @@ private:
         }
     };
 
-    ChildRef split_top(const Range& range, int depth) {
+    // The top of a subtree: its top nodes and pieces in the order a serial split makes them (a
+    // node, then its left subtree's, then its right subtree's), referring to each other by their
+    // indices here.
+    struct TopPart {
+        std::vector<TopNode> nodes;
+        std::vector<Piece> pieces;
+    };
+
+    // Splits `range` down to pieces into `part` with `threads` threads; returns its root. Where
+    // both sides of a split will be split again, they are split at once, half the threads each,
+    // each into a part of its own, appended afterwards in the serial order: the top is the same
+    // for any number of threads. (Serially, the top of a 5M-triangle build ran on one thread for
+    // a quarter of the build's time: its partitions, and the binning of ranges too small to bin
+    // in parallel.)
+    ChildRef split_top(const Range& range, int depth, int threads, TopPart& part) {
         if (range.size() < kPieceSize) {
-            pieces_.push_back({range, depth});
-            return ~static_cast<ChildRef>(pieces_.size() - 1);
+            part.pieces.push_back({range, depth});
+            return ~static_cast<ChildRef>(part.pieces.size() - 1);
         }
         Split split;
-        if (depth < kMaxSahDepth) split = find_sah_split(range);
+        if (depth < kMaxSahDepth) split = find_sah_split(range, threads);
         if (split.axis >= 0)
             partition(range, split);
         else
             split = median_split(range);
-        const size_t index = top_.size();
-        top_.push_back({range.bounds, {0, 0}});
-        const ChildRef left = split_top(split.left, depth + 1);
-        const ChildRef right = split_top(split.right, depth + 1);
-        top_[index].child[0] = left;
-        top_[index].child[1] = right;
+        const size_t index = part.nodes.size();
+        part.nodes.push_back({range.bounds, {0, 0}});
+        ChildRef left, right;
+        if (threads > 1 && split.left.size() >= kPieceSize && split.right.size() >= kPieceSize) {
+            TopPart sides[2];
+            ChildRef roots[2];
+            const int side_threads[2] = {threads - threads / 2, threads / 2};
+            parallel_for(2, 2, [&](size_t side, int) {
+                roots[side] = split_top(side == 0 ? split.left : split.right, depth + 1, side_threads[side], sides[side]);
+            });
+            left = append_top_part(part, sides[0], roots[0]);
+            right = append_top_part(part, sides[1], roots[1]);
+        } else {
+            left = split_top(split.left, depth + 1, threads, part);
+            right = split_top(split.right, depth + 1, threads, part);
+        }
+        part.nodes[index].child[0] = left;
+        part.nodes[index].child[1] = right;
         return static_cast<ChildRef>(index);
+    }
+
+    // Moves `side` to the end of `part`, its references shifted to their new places; returns
+    // where its root went.
+    static ChildRef append_top_part(TopPart& part, TopPart& side, ChildRef root) {
+        const ChildRef node_base = static_cast<ChildRef>(part.nodes.size());
+        const ChildRef piece_base = static_cast<ChildRef>(part.pieces.size());
+        auto moved = [&](ChildRef ref) { return ref >= 0 ? ref + node_base : ~(~ref + piece_base); };
+        for (TopNode& node : side.nodes) {
+            node.child[0] = moved(node.child[0]);
+            node.child[1] = moved(node.child[1]);
+            part.nodes.push_back(node);
+        }
+        part.pieces.insert(part.pieces.end(), side.pieces.begin(), side.pieces.end());
+        return moved(root);
+    }
+
+    void split_top_into_pieces(const Range& all) {
+        TopPart part;
+        root_ = split_top(all, 0, threads_, part);
+        top_ = std::move(part.nodes);
+        pieces_ = std::move(part.pieces);
     }
 
     // Writes the subtree `ref` with its root at nodes[slot]; children are appended.
@@ -534,14 +582,15 @@ private:
     // bins (Wald, "On fast construction of SAH-based bounding volume hierarchies", 2007). Large
     // ranges are binned in chunks on several threads; min, max and counts do not depend on the
     // order in which chunks are merged, so neither does the tree.
-    Split find_sah_split(const Range& range) const {
+    // Bins on up to `threads` threads where the range is large enough to share.
+    Split find_sah_split(const Range& range, int threads = 1) const {
         const Binning binning = binning_for(range);
         Bins bins_storage;  // 2.7 KB on the stack; freed before the caller recurses
         Bins* bins = &bins_storage;
-        if (range.size() >= 2 * kBinningChunk && threads_ > 1) {
+        if (range.size() >= 2 * kBinningChunk && threads > 1) {
             const size_t chunks = (range.size() + kBinningChunk - 1) / kBinningChunk;
             std::vector<Bins> partial(chunks);
-            parallel_for(chunks, threads_, [&](size_t chunk, int) {
+            parallel_for(chunks, threads, [&](size_t chunk, int) {
                 const uint32_t begin = range.begin + static_cast<uint32_t>(chunk) * kBinningChunk;
                 fill_bins(begin, std::min(range.end, begin + kBinningChunk), binning, partial[chunk]);
             });
