@@ -729,10 +729,12 @@ namespace {
 // file shrank while read: the caller reads it again from the start) or a read failed (`error`
 // set to its errno).
 bool read_ranges_at_once(int fd, char* buffer, size_t size, int threads, int& error) {
-    const size_t ranges = static_cast<size_t>(std::max(1, threads)) * kChunksPerThread;
+    // As many ranges as the parse's chunks (four a thread, none under kMinChunkBytes), so that a
+    // huge thread count does not wake a thread for every few bytes.
+    const size_t ranges = std::clamp<size_t>(size / kMinChunkBytes, 1, static_cast<size_t>(std::max(1, threads)) * kChunksPerThread);
     const size_t range_bytes = (size + ranges - 1) / ranges;
     std::vector<int> failures(ranges, 0);  // per range: 0, -1 for a short read, or an errno
-    parallel_for(ranges, threads, [&](size_t item, int) {
+    parallel_for(ranges, static_cast<int>(std::min<size_t>(ranges, static_cast<size_t>(threads))), [&](size_t item, int) {
         size_t offset = std::min(size, item * range_bytes);
         const size_t end = std::min(size, offset + range_bytes);
         while (offset < end) {
