@@ -5,7 +5,7 @@
 // The scene file is read with raycast's own parser and OBJ loader, and every pixel's ray comes from
 // raycast's make_camera/camera_ray, so Embree traces exactly the rays raycast traces. Embree builds
 // with RTC_BUILD_QUALITY_HIGH on --threads threads; the rays are then traced on --threads
-// std::threads that claim 64x64 tiles:
+// threads (raycast's parallel_for) that claim 64x64 tiles:
 //   - primary rays, closest hit: rtcIntersect1 one ray at a time, rtcIntersect16 over 4x4 blocks;
 //   - ambient-occlusion rays, any hit: from each primary hit, --ao-rays (16) cosine-distributed
 //     directions about the geometric normal (facing the camera), drawn as raycast's --mode ao
@@ -184,23 +184,28 @@ void report_embree_error(void*, RTCError code, const char* message) {
     std::exit(1);
 }
 
-// Runs tile(index) for every kTile x kTile tile on `threads` std::threads (the caller's among them).
+// Runs tile(x0, y0, x1, y1, worker) for every kTile x kTile tile on `threads` threads: raycast's
+// own (base/parallel.h), so that both sides' passes get their threads alike (kept from one pass
+// to the next, awake for a while after one). Starting std::threads in every pass had put their
+// start, and the wait for an idle processor to wake, into Embree's times only. Each tile runs
+// with flush-to-zero and denormals-are-zero, as Embree asks, and the thread's mode is put back
+// after it, so that raycast's renders on the same threads run as the command line's do.
 template <typename TileFn>
 void for_each_tile(int width, int height, int threads, TileFn&& tile) {
     const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
-    const int count = tiles_x * tiles_y;
-    std::atomic<int> next{0};
-    auto worker = [&](int worker_index) {
+    const size_t count = static_cast<size_t>(tiles_x) * static_cast<size_t>(tiles_y);
+    parallel_for(count, threads, [&](size_t item, int worker) {
+        const int index = static_cast<int>(item);
+        const int x0 = (index % tiles_x) * kTile, y0 = (index / tiles_x) * kTile;
+#if defined(__SSE2__)
+        const unsigned mode = _mm_getcsr();
         set_flush_to_zero();
-        for (int index = next++; index < count; index = next++) {
-            const int x0 = (index % tiles_x) * kTile, y0 = (index / tiles_x) * kTile;
-            tile(x0, y0, std::min(width, x0 + kTile), std::min(height, y0 + kTile), worker_index);
-        }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
-    worker(0);
-    for (std::thread& thread : pool) thread.join();
+        tile(x0, y0, std::min(width, x0 + kTile), std::min(height, y0 + kTile), worker);
+        _mm_setcsr(mode);
+#else
+        tile(x0, y0, std::min(width, x0 + kTile), std::min(height, y0 + kTile), worker);
+#endif
+    });
 }
 
 struct TraceResult {
@@ -562,8 +567,8 @@ TraceResult pass_at_rest(PassFn&& pass) {
     return pass();
 }
 
-// `pairs` pairs of one Embree pass and one raycast render, after one of each unrecorded (the first
-// touches of memory); which of the two goes first alternates from pair to pair. Prints, as
+// `pairs` pairs of one Embree pass and one raycast render, each after an untimed one of its own
+// (pass_at_rest); which of the two goes first alternates from pair to pair. Prints, as
 // " paired_NAME=r1,r2,... paired_NAME_best=b", the pairs' ratios of raycast's Mrays/s to
 // Embree's and the ratio of the two sides' best passes.
 template <typename EmbreeFn, typename RaycastFn>
