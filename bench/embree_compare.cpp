@@ -131,12 +131,34 @@ Options parse_options(int argc, char** argv) {
 }
 
 // Embree's advice for its traversal kernels: denormals flushed to zero on every tracing thread.
-void set_flush_to_zero() {
+// raycast's command line renders with them off.
+void set_flush_to_zero(bool on = true) {
 #if defined(__SSE2__)
-    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+    _MM_SET_FLUSH_ZERO_MODE(on ? _MM_FLUSH_ZERO_ON : _MM_FLUSH_ZERO_OFF);
+    _MM_SET_DENORMALS_ZERO_MODE(on ? _MM_DENORMALS_ZERO_ON : _MM_DENORMALS_ZERO_OFF);
+#else
+    (void)on;
 #endif
 }
+
+// This thread's flush-to-zero mode for a scope, put back after it: Embree's tiles and raycast's
+// renders share raycast's threads (for_each_tile), and each must find the mode it runs with.
+class FlushToZeroScope {
+public:
+    explicit FlushToZeroScope(bool on) { set_flush_to_zero(on); }
+    ~FlushToZeroScope() {
+#if defined(__SSE2__)
+        _mm_setcsr(saved_);
+#endif
+    }
+    FlushToZeroScope(const FlushToZeroScope&) = delete;
+    FlushToZeroScope& operator=(const FlushToZeroScope&) = delete;
+
+private:
+#if defined(__SSE2__)
+    unsigned saved_ = _mm_getcsr();
+#endif
+};
 
 // The scene's triangles in world space: groups flattened, transforms applied to the vertices.
 struct WorldTriangles {
@@ -188,8 +210,7 @@ void report_embree_error(void*, RTCError code, const char* message) {
 // own (base/parallel.h), so that both sides' passes get their threads alike (kept from one pass
 // to the next, awake for a while after one). Starting std::threads in every pass had put their
 // start, and the wait for an idle processor to wake, into Embree's times only. Each tile runs
-// with flush-to-zero and denormals-are-zero, as Embree asks, and the thread's mode is put back
-// after it, so that raycast's renders on the same threads run as the command line's do.
+// with flush-to-zero and denormals-are-zero, as Embree asks (FlushToZeroScope).
 template <typename TileFn>
 void for_each_tile(int width, int height, int threads, TileFn&& tile) {
     const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
@@ -197,14 +218,8 @@ void for_each_tile(int width, int height, int threads, TileFn&& tile) {
     parallel_for(count, threads, [&](size_t item, int worker) {
         const int index = static_cast<int>(item);
         const int x0 = (index % tiles_x) * kTile, y0 = (index / tiles_x) * kTile;
-#if defined(__SSE2__)
-        const unsigned mode = _mm_getcsr();
-        set_flush_to_zero();
+        const FlushToZeroScope embree_mode(true);
         tile(x0, y0, std::min(width, x0 + kTile), std::min(height, y0 + kTile), worker);
-        _mm_setcsr(mode);
-#else
-        tile(x0, y0, std::min(width, x0 + kTile), std::min(height, y0 + kTile), worker);
-#endif
     });
 }
 
@@ -542,6 +557,9 @@ struct RaycastPasses {
 // One render as `raycast SCENE OUT --stats` makes it (the colour image only, in memory): its
 // render_ms and rays= as TraceResult's ms and rays, and the camera rays that hit.
 TraceResult render_pass(const Scene& scene, const RenderOptions& options) {
+    // The calling thread has Embree's mode from the start of the run; the helpers have it only
+    // inside Embree's tiles.
+    const FlushToZeroScope command_line_mode(false);
     RenderStats stats;
     render_frame_rgb8(scene, options, FrameRequest{}, &stats);
     TraceResult result;
