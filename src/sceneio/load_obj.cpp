@@ -725,16 +725,16 @@ namespace {
 
 // Reads [0, size) of a regular file into `buffer` with every thread at once, each a range of it:
 // the kernel's copy and the zeroing of the buffer's fresh pages are most of a large file's read,
-// and both go as fast as there are threads to do them. False when a range came back short (the
-// file shrank while read: the caller reads it again from the start) or a read failed (`error`
-// set to its errno).
-bool read_ranges_at_once(int fd, char* buffer, size_t size, int threads, int& error) {
+// and both go as fast as there are threads to do them. Returns 0 when every range was read, the
+// errno of a read that failed, or -1 when a range came back short (the file shrank while read:
+// the caller reads it again from the start).
+int read_ranges_at_once(int fd, char* buffer, size_t size, int threads) {
     // As many ranges as the parse's chunks (four a thread, none under kMinChunkBytes), so that a
     // huge thread count does not wake a thread for every few bytes.
     const size_t ranges = std::clamp<size_t>(size / kMinChunkBytes, 1, static_cast<size_t>(std::max(1, threads)) * kChunksPerThread);
     const size_t range_bytes = (size + ranges - 1) / ranges;
-    std::vector<int> failures(ranges, 0);  // per range: 0, -1 for a short read, or an errno
-    parallel_for(ranges, static_cast<int>(std::min<size_t>(ranges, static_cast<size_t>(threads))), [&](size_t item, int) {
+    std::vector<int> failures(ranges, 0);  // per range, as the whole read's result
+    parallel_for(ranges, threads, [&](size_t item, int) {
         size_t offset = std::min(size, item * range_bytes);
         const size_t end = std::min(size, offset + range_bytes);
         while (offset < end) {
@@ -747,9 +747,12 @@ bool read_ranges_at_once(int fd, char* buffer, size_t size, int threads, int& er
             offset += static_cast<size_t>(got);
         }
     });
-    for (int failure : failures)
-        if (failure > 0) error = failure;
-    return std::all_of(failures.begin(), failures.end(), [](int failure) { return failure == 0; });
+    int result = 0;
+    for (int failure : failures) {
+        if (failure > 0) return failure;  // a failed read outranks a short range
+        if (failure < 0) result = failure;
+    }
+    return result;
 }
 
 }  // namespace
@@ -775,13 +778,15 @@ TriangleMesh load_obj_file(const std::string& path, const ObjLoadOptions& option
     // A large file is read by every thread at once (1M triangles, 37 MB: 9 ms on one thread, 5
     // on two; docs/performance.md), then by the loop below from where that ended, which sees a
     // file that grew meanwhile, and the end. A small one is not worth waking the threads for.
+    auto cannot_read = [&path](int error) {
+        return InputError(path, std::string("cannot read OBJ file: ") + std::strerror(error));
+    };
     if (S_ISREG(info.st_mode) && info.st_size >= kMinParallelReadBytes && options.threads > 1) {
-        int error = 0;
         const size_t expected = capacity - 1;
-        if (read_ranges_at_once(fd, buffer.get(), expected, options.threads, error)) size = expected;
-        else if (error != 0) throw InputError(path, std::string("cannot read OBJ file: ") + std::strerror(error));
-        if (::lseek(fd, static_cast<off_t>(size), SEEK_SET) < 0)
-            throw InputError(path, std::string("cannot read OBJ file: ") + std::strerror(errno));
+        const int failure = read_ranges_at_once(fd, buffer.get(), expected, options.threads);
+        if (failure > 0) throw cannot_read(failure);
+        if (failure == 0) size = expected;
+        if (::lseek(fd, static_cast<off_t>(size), SEEK_SET) < 0) throw cannot_read(errno);
     }
     for (;;) {
         if (size == capacity) {
@@ -794,7 +799,7 @@ TriangleMesh load_obj_file(const std::string& path, const ObjLoadOptions& option
         const ssize_t got = ::read(fd, buffer.get() + size, capacity - size);
         if (got < 0) {
             if (errno == EINTR) continue;
-            throw InputError(path, std::string("cannot read OBJ file: ") + std::strerror(errno));
+            throw cannot_read(errno);
         }
         if (got == 0) break;
         size += static_cast<size_t>(got);
