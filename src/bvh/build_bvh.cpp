@@ -35,6 +35,16 @@ constexpr int kMaxBins = 32;
 
 Vec3f centroid(const Bounds3f& b) { return (b.lower + b.upper) * 0.5f; }
 
+#if defined(__SSE2__)
+// The box whose corners are the first three lanes of `lower` and `upper`.
+Bounds3f box_of_lanes(__m128 lower, __m128 upper) {
+    alignas(16) float lo[4], hi[4];
+    _mm_store_ps(lo, lower);
+    _mm_store_ps(hi, upper);
+    return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+}
+#endif
+
 // What a leaf of `count` primitives costs in the SAH: one test per `test_width` of them.
 float leaf_test_cost(uint32_t count, int test_width) {
     const uint32_t width = static_cast<uint32_t>(std::max(1, test_width));
@@ -558,11 +568,8 @@ private:
         for (int axis = 0; axis < 3; ++axis)
             for (int b = 0; b < bin_count_; ++b) {
                 if (counts[axis][b] == 0) continue;
-                alignas(16) float lo[4], hi[4];
-                _mm_store_ps(lo, lower[axis][b]);
-                _mm_store_ps(hi, upper[axis][b]);
                 Bin& bin = bins.axis[axis][b];
-                bin.bounds.grow(Bounds3f{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}});
+                bin.bounds.grow(box_of_lanes(lower[axis][b], upper[axis][b]));
                 bin.count += counts[axis][b];
             }
 #else
@@ -687,14 +694,8 @@ private:
             if (first == last) break;
             std::swap(*first, *(last - 1));
         }
-        auto to_box = [](__m128 lower, __m128 upper) {
-            alignas(16) float lo[4], hi[4];
-            _mm_store_ps(lo, lower);
-            _mm_store_ps(hi, upper);
-            return Bounds3f{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
-        };
-        left_centroids = to_box(left_lower, left_upper);
-        right_centroids = to_box(right_lower, right_upper);
+        left_centroids = box_of_lanes(left_lower, left_upper);
+        right_centroids = box_of_lanes(right_lower, right_upper);
 #else
         auto goes_left = [&](const BvhPrimitive& p) { return binning.bin_of(centroid(p.bounds)[axis], axis) < split.bin; };
         for (;;) {
