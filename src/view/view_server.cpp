@@ -2,7 +2,6 @@
 
 #include "base/error.h"
 #include "view/file_watcher.h"
-#include "view/poll_one.h"
 
 #ifdef RAYCAST_HAVE_HTTPLIB
 
@@ -22,6 +21,8 @@
 #include <chrono>
 #include <cstring>
 #include <thread>
+
+#include "view/poll_one.h"
 
 namespace raycast {
 
