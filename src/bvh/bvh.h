@@ -42,6 +42,18 @@ constexpr int kMaxSahDepth = 64;
 /// order of traversal, so every traversal path finds the same closest hit.
 inline float cull_distance(float t_best) { return t_best + std::fabs(t_best) * (1.0f / 1024); }
 
+/// The nearest a hit may lie and count, in a BVH leaf whose box the ray enters at `leaf_entry`:
+/// a little before the entry (half the cull slack, so that cull_distance of such a hit still
+/// reaches the entry). A hit nearer than that could be found or not depending on the order of
+/// traversal: a hit found first elsewhere, between the two, culls the leaf. A true hit lies
+/// inside its leaf's box and always counts; a triangle test rounded far off (a triangle 1e18
+/// long, seen from near one end; docs/reliability.md, finding 11) can report one well before
+/// it, and every path drops such a hit alike.
+inline float leaf_floor(float leaf_entry) { return leaf_entry - std::fabs(leaf_entry) * (1.0f / 2048); }
+
+/// Whether a hit at `t` counts in a leaf whose box the ray enters at `leaf_entry` (leaf_floor).
+inline bool counts_in_leaf(float t, float leaf_entry) { return t >= leaf_floor(leaf_entry); }
+
 /// A ray prepared for box tests: 1/direction with zero components replaced by tiny ones, so that
 /// no 0·∞ makes a NaN.
 struct BoxRay {
@@ -84,8 +96,9 @@ inline bool intersect_box(const Bounds3f& box, const BoxRay& ray, float t_cull, 
 }
 
 /// Visits the leaves whose boxes the ray meets, nearer child first, skipping boxes that start
-/// beyond cull_distance(t_best()). For each leaf calls visit_leaf(first, count), which returns
-/// true to stop (an any-hit query that found a hit). Returns true if it was stopped.
+/// beyond cull_distance(t_best()). For each leaf calls visit_leaf(first, count, t_entry), t_entry
+/// being where the ray enters the leaf's box (for counts_in_leaf), which returns true to stop (an
+/// any-hit query that found a hit). Returns true if it was stopped.
 /// `t_best` is re-read after every leaf, so the leaf callback may shrink it. If `nodes_visited`
 /// is given, every node whose box is tested adds one to it.
 template <typename TBestFn, typename LeafFn>
@@ -103,12 +116,13 @@ bool traverse_bvh(const Bvh& bvh, const BoxRay& ray, TBestFn&& t_best, LeafFn&& 
     Pending stack[kMaxBvhDepth];
     int stack_size = 0;
     uint32_t current = 0;
+    float current_entry = t_entry;  // where the ray enters nodes[current]'s box
     for (;;) {
         RAYCAST_DCHECK(current < bvh.nodes.size());
         const BvhNode& node = nodes[current];
         if (node.is_leaf()) {
             RAYCAST_DCHECK(uint64_t{node.first} + node.count <= bvh.prim_order.size());
-            if (visit_leaf(node.first, node.count)) return true;
+            if (visit_leaf(node.first, node.count, current_entry)) return true;
         } else {
             RAYCAST_DCHECK(uint64_t{node.first} + 1 < bvh.nodes.size());
             const float t_cull = cull_distance(t_best());
@@ -121,10 +135,12 @@ bool traverse_bvh(const Bvh& bvh, const BoxRay& ray, TBestFn&& t_best, LeafFn&& 
                 RAYCAST_DCHECK(stack_size < kMaxBvhDepth);
                 stack[stack_size++] = left_first ? Pending{node.first + 1, t_right} : Pending{node.first, t_left};
                 current = left_first ? node.first : node.first + 1;
+                current_entry = left_first ? t_left : t_right;
                 continue;
             }
             if (hit_left || hit_right) {
                 current = hit_left ? node.first : node.first + 1;
+                current_entry = hit_left ? t_left : t_right;
                 continue;
             }
         }
@@ -134,6 +150,7 @@ bool traverse_bvh(const Bvh& bvh, const BoxRay& ray, TBestFn&& t_best, LeafFn&& 
             const Pending next = stack[--stack_size];
             if (next.t_entry <= cull_distance(t_best())) {
                 current = next.node;
+                current_entry = next.t_entry;
                 break;
             }
         }

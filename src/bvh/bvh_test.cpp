@@ -528,6 +528,44 @@ TEST(BvhTraversal, RaysLyingInABoxFaceAreNotCulled) {
         if (!expect_same_as_brute_force(checked_ball_scene, {centre, p - centre}, 0)) return;
 }
 
+TEST(BvhTraversal, AHitCountsFromHalfTheCullSlackBeforeItsLeafsBox) {
+    // leaf_floor(e) = e - |e|/2048: 100 - 0.048828125, exactly.
+    EXPECT_EQ(leaf_floor(100.0f), 99.951171875f);
+    EXPECT_EQ(leaf_floor(-100.0f), -100.048828125f);
+    EXPECT_TRUE(counts_in_leaf(99.951171875f, 100.0f));
+    EXPECT_FALSE(counts_in_leaf(std::nextafter(99.951171875f, 0.0f), 100.0f));
+    EXPECT_TRUE(counts_in_leaf(-1e30f, -INFINITY));  // no box was tested: every hit counts
+    // A hit that counts culls nothing in front of its own leaf: the cull distance of the nearest
+    // such hit still reaches the leaf's entry, so the leaf is visited whatever was found first.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> exponent(-30, 30);
+    for (int i = 0; i < 10000; ++i) {
+        const float entry = std::pow(10.0f, exponent(rng));
+        EXPECT_GE(cull_distance(leaf_floor(entry)), entry) << entry;
+    }
+
+    // traverse_bvh gives each leaf the entry intersect_box finds for the leaf's box: unit cubes
+    // at z in [-1, 0] and [-6, -5], a ray down z from z = 5 enters them at t = 5 and t = 10.
+    const std::vector<BvhPrimitive> prims{{box({0, 0, -1}, {1, 1, 0}), 0}, {box({0, 0, -6}, {1, 1, -5}), 1}};
+    const Bvh bvh = build_bvh(prims, BvhBuildOptions{});
+    ASSERT_EQ(bvh.nodes.size(), 3u);
+    const BoxRay ray = make_box_ray({{0.5f, 0.5f, 5}, {0, 0, -1}}, 0);
+    std::vector<std::pair<uint32_t, float>> leaves;  // (first primitive, t_entry) as visited
+    traverse_bvh(bvh, ray, [] { return INFINITY; }, [&](uint32_t first, uint32_t, float t_entry) {
+        leaves.emplace_back(first, t_entry);
+        return false;
+    });
+    ASSERT_EQ(leaves.size(), 2u);
+    for (const auto& [first, t_entry] : leaves) {
+        const BvhNode& leaf = bvh.nodes[bvh.nodes[1].first == first ? 1 : 2];
+        float expected = 0;
+        ASSERT_TRUE(intersect_box(leaf.bounds, ray, INFINITY, expected));
+        EXPECT_EQ(t_entry, expected);
+        EXPECT_NEAR(t_entry, bvh.prim_order[first] == 0 ? 5.0f : 10.0f, 1e-4f);
+    }
+    EXPECT_EQ(bvh.prim_order[leaves[0].first], 0u);  // nearer first
+}
+
 TEST(BvhTraversal, ExactTiesGoToTheLowerTriangleIndex) {
     // Each of the first 200 triangles is listed again (same vertices, same order) at index
     // 200 + i: the copy gives exactly the same t, so is_closer must keep the original.

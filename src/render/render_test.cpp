@@ -433,6 +433,62 @@ Group { numObjects 1 MaterialIndex 0 Sphere { center 0 0 0 radius 1.40129846e-45
     }
 }
 
+// A triangle 1e18 long, seen from near its narrow end (a fuzz finding: docs/reliability.md,
+// finding 11). Its watertight test rounds so far off that it reports hits before the ray even
+// enters the triangle's box, nearer than the sphere the ray really meets first. Whether such a
+// hit was found depended on the order of traversal: where the sphere came first, it culled the
+// triangle's leaf; the single-ray and packet paths visit in different orders, and their images
+// differed. A hit before its leaf's box no longer counts (bvh.h's leaf_floor), on every path, as
+// a free triangle in the scene's BVH and as a one-triangle mesh in its own.
+TEST(RenderTest, AHitRoundedToBeforeItsBoxCountsOnNoPath) {
+    const std::string scene_text = R"(PerspectiveCamera {
+    center -2.76947713 -2.76947713 -2.76947713 direction 1.76947713 1.76947713 1.76947713
+    up 0 1 0 angle 30 width 8 height 6 }
+Lights { numLights 1 DirectionalLight { direction -1 -1 -0.3359375 color 0.7 0.5 0.5 } }
+Materials { numMaterials 2 Material { diffuseColor 0.2 0.6 0.2 } Material { diffuseColor 0.6 0.2 0.2 } }
+Group { numObjects 3
+    MaterialIndex 0 SHAPE
+    MaterialIndex 1 Sphere { center -1.421875 -1.421875 -1.421875 radius 0.573437512 }
+    Plane { normal -0.7109375 -0.7109375 0.9921875 offset -4 } }
+)";
+    const std::map<std::string, std::string> meshes = {
+        {"sliver.obj", "v -1.77734375 -1.77734375 -1.77734375\nv -9e17 -2.109375 -1.77734375\n"
+                       "v 10000000 -1.77734375 -1.7578125\nf 1 2 3\n"}};
+    SceneLoadOptions load;
+    load.in_memory_meshes = &meshes;
+    for (const char* shape : {"Triangle { vertex0 -1.77734375 -1.77734375 -1.77734375 vertex1 -9e17 -2.109375 "
+                              "-1.77734375 vertex2 10000000 -1.77734375 -1.7578125 }",
+                              "TriangleMesh { obj_file sliver.obj }"}) {
+        std::string text = scene_text;
+        text.replace(text.find("SHAPE"), 5, shape);
+        const Scene scene = build(load_scene_text(text, "sliver.txt", load));
+        // The ray through pixel (2, 2) meets the sphere at t = 1.867 and enters the triangle's
+        // box only at t = 1.936 (where its z reaches -1.777); the triangle's test reports t = 1.78.
+        const Camera& cam = scene.camera;
+        const Ray ray = camera_ray(cam, 2 + cam.pixel_offset, 2 + cam.pixel_offset);
+        Hit hit;
+        intersect(scene, ray, cam.t_min, hit);
+        EXPECT_EQ(hit.object, 1u) << shape;  // the sphere
+        EXPECT_NEAR(hit.t, 1.8672f, 1e-3f) << shape;
+        RenderOptions single = options_with(PacketIsa::None);
+        single.mode = RenderMode::Normals;
+        const Image reference = render_image(scene, single);
+        for (PacketIsa isa : packet_isas()) {
+            RenderOptions options = single;
+            options.packet_isa = isa;
+            EXPECT_TRUE(same_floats(render_image(scene, options), reference)) << shape << ", " << packet_isa_name(isa);
+            // The cost mode's walk counts the nodes it visits, ray by ray; its frame's normals
+            // are those of the normals mode's packets (how the fuzzer found it).
+            FrameRequest normals;
+            normals.normals = true;
+            const ImageRgb8 expected = render_image_rgb8(scene, options);
+            options.mode = RenderMode::Cost;
+            EXPECT_EQ(render_frame_rgb8(scene, options, normals).normals.rgb, expected.rgb)
+                << shape << ", " << packet_isa_name(isa);
+        }
+    }
+}
+
 // A nearly singular transform (two rows of its Matrix almost alike: its inverse's entries near
 // 1e7) rounds the rays it moves into the sphere's space so much that the sphere's test reports
 // hits a hair outside the box the sphere has in the world, which one traversal's box tests reach

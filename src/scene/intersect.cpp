@@ -41,6 +41,14 @@ struct Query {
     Hit& best;
     TraceCounters* counters;
     const uint8_t* skip_back_faces = nullptr;  // any-hit: per instance, as occluded() takes it
+    // Closest-hit: where the ray enters the box of the instance BVH's leaf being tested (-inf
+    // where no box was tested); a sphere's, triangle's or surface's hit counts only where
+    // counts_in_leaf says so (a mesh's hits are held to its own BVH's leaves in the kernel).
+    float leaf_entry = -INFINITY;
+
+    void offer_shape(float t, float u, float v, uint32_t object, uint32_t prim) {
+        if (counts_in_leaf(t, leaf_entry)) offer(best, t, u, v, object, prim);
+    }
 
     // Returns true when an any-hit query has its answer.
     bool mesh(const MeshShape& shape, const Ray& ray, uint32_t object) {
@@ -67,7 +75,7 @@ struct Query {
                 float t;
                 if (!intersect_sphere(scene.spheres[inst.shape], ray, t_min, t)) return false;
                 if (kAnyHit) return t < t_max;
-                offer(best, t, 0, 0, id, 0);
+                offer_shape(t, 0, 0, id, 0);
                 return false;
             }
             case ShapeKind::Triangle: {
@@ -75,7 +83,7 @@ struct Query {
                 TriangleHit hit;
                 if (!intersect_triangle(make_watertight_ray(ray), tri.p0, tri.p1, tri.p2, t_min, hit)) return false;
                 if (kAnyHit) return hit.t < t_max;
-                offer(best, hit.t, hit.u, hit.v, id, 0);
+                offer_shape(hit.t, hit.u, hit.v, id, 0);
                 return false;
             }
             case ShapeKind::Mesh:
@@ -84,7 +92,7 @@ struct Query {
                 float t;
                 if (!intersect_plane(scene.planes[inst.shape], ray, t_min, t)) return false;
                 if (kAnyHit) return t < t_max;
-                offer(best, t, 0, 0, id, 0);
+                offer_shape(t, 0, 0, id, 0);
                 return false;
             }
             case ShapeKind::RevSurface: {
@@ -95,7 +103,7 @@ struct Query {
                                            counters ? &counters->nodes_visited : nullptr))
                     return false;
                 if (kAnyHit) return true;
-                offer(best, hit.t, hit.u, 0, id, hit.piece);
+                offer_shape(hit.t, hit.u, 0, id, hit.piece);
                 return false;
             }
         }
@@ -127,7 +135,8 @@ struct Query {
         const BoxRay box_ray = make_box_ray(ray, t_min);
         return traverse_bvh(
             scene.instance_bvh, box_ray, [&] { return kAnyHit ? t_max : best.t; },
-            [&](uint32_t first, uint32_t count) {
+            [&](uint32_t first, uint32_t count, float t_entry) {
+                leaf_entry = t_entry;
                 for (uint32_t i = first; i < first + count; ++i)
                     if (visit(ids[i], ray)) return true;
                 return false;
@@ -334,8 +343,9 @@ size_t Scene::triangle_count() const {
 
 namespace raycast {
 
-void intersect_instance(const Scene& scene, uint32_t id, const Ray& world_ray, float t_min, Hit& hit) {
-    Query<false>{scene, t_min, INFINITY, hit, nullptr}.instance(id, world_ray);
+void intersect_instance(const Scene& scene, uint32_t id, const Ray& world_ray, float t_min, float leaf_entry,
+                        Hit& hit) {
+    Query<false>{scene, t_min, INFINITY, hit, nullptr, nullptr, leaf_entry}.instance(id, world_ray);
 }
 
 bool occluded_instance(const Scene& scene, uint32_t id, const Ray& world_ray, float t_min, float t_max) {

@@ -29,8 +29,9 @@ inline float safe_divisor(float d) {
 // exact test gives; a negative far distance means the box is behind t_min either way.
 constexpr float kInverseShrink = 1.0f - 8 * 5.96046448e-08f, kInverseGrow = 1.0f + 8 * 5.96046448e-08f;
 
-// bvh.h's cull_distance.
+// bvh.h's cull_distance and leaf_floor.
 inline float cull_distance_scalar(float t_best) { return t_best + scalar_abs(t_best) * (1.0f / 1024); }
+inline float leaf_floor_scalar(float leaf_entry) { return leaf_entry - scalar_abs(leaf_entry) * (1.0f / 2048); }
 
 inline unsigned lowest_bit(unsigned b) { return static_cast<unsigned>(__builtin_ctz(b)); }
 

@@ -278,8 +278,21 @@ inline VM child_hits(const WideBvhNode& node, uint32_t slot, const PacketRays& r
     return (t0 <= t1) & r.live;
 }
 
-// Walks the (binary) instance BVH with the packet; visit_leaf(first, count, lanes) is called for
-// every leaf that some live ray's box test reaches, and returns true to stop. t_cull() is re-read
+inline VF leaf_floor_v(VF leaf_entry) { return leaf_entry - vabs(leaf_entry) * splat(1.0f / 2048); }
+
+// Each lane's leaf_floor (bvh.h) for the instance BVH's leaf `leaf`, from its own box test of
+// the leaf (the single-ray path's intersect_box): +inf in the lanes whose rays miss the box (none
+// of their hits there counts), -inf in every lane where no box was tested (leaf null).
+inline VF node_floor(const BvhNode* leaf, const PacketRays& r, VF t_min) {
+    if (!leaf) return splat(-__builtin_inff());
+    VF t_entry;
+    const VM meets = node_hits(*leaf, r, t_min, splat(__builtin_inff()), t_entry);
+    return select(meets, leaf_floor_v(t_entry), splat(__builtin_inff()));
+}
+
+// Walks the (binary) instance BVH with the packet; visit_leaf(first, count, lanes, leaf) is called
+// for every leaf that some live ray's box test reaches, with the leaf's node (for node_floor:
+// null where its box was not tested), and returns true to stop. t_cull() is re-read
 // after every leaf, and so is r.live (a leaf may retire lanes).
 template <typename CullFn, typename LeafFn>
 inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF& t_min, CullFn&& t_cull,
@@ -288,7 +301,7 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
         // One leaf: its instances are tested without its box, exactly as intersect() and
         // occluded() do, so the paths agree even where the box test's stand-in for 1/0 (bvh.h)
         // would miss a box too thin to see (fuzz/regressions/fuzz_render_pipeline-lone-tiny-sphere).
-        visit_leaf(nodes[0].first, nodes[0].count, r.live);
+        visit_leaf(nodes[0].first, nodes[0].count, r.live, static_cast<const BvhNode*>(nullptr));
         return;
     }
     VF t_entry;
@@ -300,7 +313,7 @@ inline void traverse_packet(const BvhNode* nodes, const PacketRays& r, const VF&
     for (;;) {
         const BvhNode& node = nodes[current];
         if (node.count != 0) {
-            if (visit_leaf(node.first, node.count, mask)) return;
+            if (visit_leaf(node.first, node.count, mask, &node)) return;
         } else {
             const VF cull = t_cull();
             VF t_left, t_right;
@@ -466,7 +479,8 @@ inline bool frustum_too_wide(const PacketFrustum& f, const MeshView& mesh) {
 // Walks a mesh's wide BVH with the packet as a frustum: the children it enters are visited
 // nearest first by its entry, the others wait on the stack with their entry and are dropped when
 // popped if they begin beyond max_cull() (the farthest of the live lanes' cull distances, read
-// again after every leaf). visit_leaf(payload) returns true to stop.
+// again after every leaf). visit_leaf(payload, parent, slot), the leaf being child `slot` of node
+// `parent`, returns true to stop.
 template <typename CullFn, typename LeafFn>
 inline void traverse_frustum(const MeshView& mesh, const PacketFrustum& f, float t_min, CullFn&& max_cull,
                              LeafFn&& visit_leaf) {
@@ -474,14 +488,15 @@ inline void traverse_frustum(const MeshView& mesh, const PacketFrustum& f, float
     struct Pending {
         uint32_t ref;
         float t_entry;
+        uint32_t parent, slot;  // where the child's box is (a leaf's is tested again for each hit)
     };
     Pending stack[kWideStackSize];
     int stack_size = 0;
-    uint32_t ref = 0;  // the root node
+    Pending current{0, 0.0f, 0, 0};  // the root node
     float cull = max_cull();
     for (;;) {
-        if ((ref & kWideLeafFlag) == 0) {
-            const WideBvhNode& node = nodes[ref];
+        if ((current.ref & kWideLeafFlag) == 0) {
+            const WideBvhNode& node = nodes[current.ref];
             wide8::VF t_entry;
             unsigned hits = frustum_children(node, f, t_min, cull, t_entry);
             if (hits != 0) {
@@ -491,7 +506,7 @@ inline void traverse_frustum(const MeshView& mesh, const PacketFrustum& f, float
                 int count = 0;
                 for (; hits; hits &= hits - 1) {
                     const unsigned slot = lowest_bit(hits);
-                    const Pending child{node.child[slot], t[slot]};
+                    const Pending child{node.child[slot], t[slot], current.ref, slot};
                     prefetch_child(mesh, child.ref);
                     int i = count++;
                     for (; i > 0 && entered[i - 1].t_entry < child.t_entry; --i) entered[i] = entered[i - 1];
@@ -499,18 +514,18 @@ inline void traverse_frustum(const MeshView& mesh, const PacketFrustum& f, float
                 }
                 RAYCAST_DCHECK(stack_size + count - 1 <= kWideStackSize);
                 for (int i = 0; i + 1 < count; ++i) stack[stack_size++] = entered[i];
-                ref = entered[count - 1].ref;
+                current = entered[count - 1];
                 continue;
             }
         } else {
-            if (visit_leaf(ref & kWidePayloadMask)) return;
+            if (visit_leaf(current.ref & kWidePayloadMask, nodes[current.parent], current.slot)) return;
             cull = max_cull();
         }
         for (;;) {
             if (stack_size == 0) return;
             const Pending next = stack[--stack_size];
             if (next.t_entry <= cull) {
-                ref = next.ref;
+                current = next;
                 break;
             }
         }
@@ -518,11 +533,47 @@ inline void traverse_frustum(const MeshView& mesh, const PacketFrustum& f, float
 }
 #endif
 
+// A leaf of a mesh's wide BVH as a walk reached it: what leaf_floor_lanes needs. A walk that
+// tested the leaf's box lane by lane gives each lane's entry and the lanes that entered; the
+// frustum walk gives where the box is and how to test it.
+struct LeafBox {
+    const WideBvhNode* parent;  // the node whose child the leaf is
+    uint32_t slot;
+    SlabTest test;
+    const SameOctant* octant;
+    const VF* t_entry = nullptr;  // the lane-by-lane walk's entries (null: test the box)
+    VM entered = {};              // with t_entry: the lanes whose tests entered the box
+};
+
+// Each lane's leaf_floor (bvh.h) for a leaf of a mesh's wide BVH: from the walk's own test of the
+// leaf's box in that lane (what the single-ray kernel's test computes, where t_min >= 0) where
+// the walk found it (LeafBox::t_entry), else from that test made now; +inf in the lanes whose
+// rays did not enter the box (none of their hits there counts).
+inline VF leaf_floor_lanes(const LeafBox& leaf, const PacketRays& r, VF t_min) {
+    if (leaf.t_entry) return select(leaf.entered, leaf_floor_v(*leaf.t_entry), splat(__builtin_inff()));
+    const VF no_cull = splat(__builtin_inff());
+    VF t_entry;
+    VM meets;
+    switch (leaf.test) {
+        case SlabTest::Widened:
+            meets = child_hits<SlabTest::Widened>(*leaf.parent, leaf.slot, r, *leaf.octant, t_min, no_cull, t_entry);
+            break;
+        case SlabTest::SameOctant:
+            meets = child_hits<SlabTest::SameOctant>(*leaf.parent, leaf.slot, r, *leaf.octant, t_min, no_cull, t_entry);
+            break;
+        default:
+            meets = child_hits<SlabTest::AnyOctant>(*leaf.parent, leaf.slot, r, *leaf.octant, t_min, no_cull, t_entry);
+            break;
+    }
+    return select(meets, leaf_floor_v(t_entry), splat(__builtin_inff()));
+}
+
 // Walks a mesh's wide BVH with the packet: every child box of a node is tested in every lane,
 // the children some lane enters are visited nearest first (as the first lane that enters any of
 // them sees it), and the others wait on the stack as (node, slot), their box tested again when
-// popped. visit_leaf(payload, reached) is called with the live lanes whose box tests led to the
-// leaf, and returns true to stop; t_cull() and r.live are re-read after it. Without kNearFirst,
+// popped. visit_leaf(payload, reached, leaf) is called with the live lanes whose box tests led to
+// the leaf and, in a closest-hit walk, where its box is (LeafBox; its parent is null in an any-hit
+// walk), and returns true to stop; t_cull() and r.live are re-read after it. Without kNearFirst,
 // children are visited in slot order (for an any-hit query, whose cull distance never changes).
 // skipped(node, slot) gives the lanes that need not enter that child however their box tests go
 // (an any-hit query passing over back faces, scene/back_faces.h; no lanes for the others).
@@ -541,6 +592,8 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
     int stack_size = 0;
     uint32_t ref = 0;  // the root node
     VM reached = r.live;  // the lanes whose box tests led to ref
+    VF ref_entry = splat(-__builtin_inff());  // closest-hit: where the lanes enter ref's box
+    LeafBox box{nullptr, 0, kTest, &octant, &ref_entry, r.live};
     for (;;) {
         if ((ref & kWideLeafFlag) == 0) {
             const WideBvhNode& node = nodes[ref];
@@ -588,11 +641,13 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
                 RAYCAST_DCHECK(stack_size + count - 1 <= kWideStackSize);
                 for (int i = 0; i + 1 < count; ++i) stack[stack_size++] = {ref, order[i]};
                 reached = entered[order[count - 1]];
+                ref_entry = t_entry[order[count - 1]];
                 ref = node.child[order[count - 1]];
                 continue;
             }
-        } else if (visit_leaf(ref & kWidePayloadMask, reached & r.live)) {
-            return;
+        } else {
+            box.entered = reached;
+            if (visit_leaf(ref & kWidePayloadMask, reached & r.live, box)) return;
         }
         for (;;) {
             if (stack_size == 0) return;
@@ -610,6 +665,7 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
             reached = andnot(child_hits<kTest>(parent, next.info, r, octant, t_min, t_cull(), t_entry),
                              skipped(next.ref, next.info));
             if (any(reached)) {
+                ref_entry = t_entry;
                 ref = parent.child[next.info];
                 break;
             }
@@ -622,7 +678,7 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
 template <bool kNearFirst, typename CullFn, typename LeafFn, typename SkipFn>
 inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, float t_min, CullFn&& t_cull,
                                  LeafFn&& visit_leaf, SkipFn&& skipped) {
-    SameOctant octant;
+    SameOctant octant{};  // read by the SameOctant test only, but a LeafBox carries it to every test
     const VF t_min_v = splat(t_min);
     if (t_min < 0)
         traverse_packet_wide<SlabTest::Widened, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf, skipped);
@@ -780,19 +836,29 @@ inline void refresh_best(PacketState& s) {
     s.best_t = select(mask_from_bits((1u << s.count) - 1), t, splat(__builtin_inff()));
 }
 
-// Hands the lanes to the scalar code, one ray at a time (exactly the single-ray path).
-inline void intersect_instance_lanes(PacketState& s, uint32_t id, VM lanes) {
+// Hands the lanes to the scalar code, one ray at a time (exactly the single-ray path), with
+// where each enters the box of the instance BVH's leaf `leaf` (null where none was tested).
+inline void intersect_instance_lanes(PacketState& s, const PacketRays& r, uint32_t id, VM lanes, const BvhNode* leaf) {
     RAYCAST_DCHECK((bits(lanes) >> s.count) == 0);
+    float entries[kLanes];
+    if (leaf) {
+        VF t_entry;
+        node_hits(*leaf, r, s.t_min_v, splat(__builtin_inff()), t_entry);
+        store(entries, t_entry);
+    }
     for (unsigned b = bits(lanes); b; b &= b - 1) {
         const unsigned lane = lowest_bit(b);
-        intersect_instance(*s.view.scene, id, s.rays[lane], s.t_min, s.hits[lane]);
+        intersect_instance(*s.view.scene, id, s.rays[lane], s.t_min, leaf ? entries[lane] : -__builtin_inff(), s.hits[lane]);
     }
     refresh_best(s);
 }
 
-// Closest hits of the rays of r.live, which share w's permutation, with one leaf's triangles.
+// Closest hits of the rays of r.live, which share w's permutation, with one leaf's triangles:
+// those no nearer than each lane's leaf_floor (leaf_floor_lanes).
 inline void intersect_leaf_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w, const MeshView& mesh,
-                                  uint32_t object, uint32_t first_block, ShearedVertices& sheared) {
+                                  uint32_t object, uint32_t first_block, const LeafBox& leaf, ShearedVertices& sheared) {
+    VF t_floor;  // found at the first hit (most leaves have none)
+    bool have_floor = false;
     for (uint32_t block = first_block;;) {
         const unsigned char* group = mesh.groups[block].bytes;
         shear_vertices(group, w, sheared);
@@ -800,8 +866,14 @@ inline void intersect_leaf_packet(PacketState& s, const PacketRays& r, const Wat
         for (unsigned inside = triangles_inside(group, sheared, r.live); inside; inside &= inside - 1) {
             const uint32_t lane = lowest_bit(inside);
             const TriangleLanes h = test_triangle_packet(group, lane, sheared, r.live, s.t_min_v);
+            if (!any(h.hit)) continue;
+            if (!have_floor) {
+                t_floor = leaf_floor_lanes(leaf, r, s.t_min_v);
+                have_floor = true;
+            }
+            const VM counted = h.hit & (t_floor <= h.t);
             // The triangle's id is read only for a hit: the last part of the group.
-            if (any(h.hit)) offer(s, h.hit, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block, lane);
+            if (any(counted)) offer(s, counted, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block, lane);
         }
         if (group[2] & kGroupEndsLeaf) return;
         block += group_blocks(group[0], group[1]);
@@ -814,24 +886,29 @@ struct PacketFrustum;  // defined where the kernel has a frustum walk (RAYCAST_P
 // `frustum` (the packet's, when its rays share an origin and go one way; else null) unless that
 // is too wide for the mesh's leaves, else lane by lane.
 inline void walk_mesh_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w, const MeshView& mesh,
-                             uint32_t object, const PacketFrustum* frustum) {
+                             uint32_t object, const PacketFrustum* frustum, const SameOctant* octant) {
     ShearedVertices sheared;
-    auto visit_leaf = [&](uint32_t first_block) {
-        intersect_leaf_packet(s, r, w, mesh, object, first_block, sheared);
-        return false;
-    };
 #ifdef RAYCAST_PACKET_FRUSTUM
     if (frustum && !frustum_too_wide(*frustum, mesh)) {
         traverse_frustum(mesh, *frustum, s.t_min, [&] { return max_of_lanes(cull_distance_v(s.best_t), r.live); },
-                         visit_leaf);
+                         [&](uint32_t first_block, const WideBvhNode& parent, uint32_t slot) {
+                             const LeafBox leaf{&parent, slot, SlabTest::SameOctant, octant};
+                             intersect_leaf_packet(s, r, w, mesh, object, first_block, leaf, sheared);
+                             return false;
+                         });
         return;
     }
 #else
     (void)frustum;
+    (void)octant;
 #endif
     traverse_packet_wide<true>(
         mesh, r, s.t_min, [&] { return cull_distance_v(s.best_t); },
-        [&](uint32_t first_block, VM) { return visit_leaf(first_block); }, no_lanes);
+        [&](uint32_t first_block, VM, const LeafBox& leaf) {
+            intersect_leaf_packet(s, r, w, mesh, object, first_block, leaf, sheared);
+            return false;
+        },
+        no_lanes);
 }
 
 // walk_mesh_packet with the packet's frustum where it has one.
@@ -841,11 +918,11 @@ inline void intersect_mesh_packet(PacketState& s, const PacketRays& r, const Wat
     SameOctant octant;
     if (s.t_min >= 0 && same_octant(r, octant) && one_origin(r)) {
         const PacketFrustum frustum = make_frustum(r, octant);
-        walk_mesh_packet(s, r, w, mesh, object, &frustum);
+        walk_mesh_packet(s, r, w, mesh, object, &frustum, &octant);
         return;
     }
 #endif
-    walk_mesh_packet(s, r, w, mesh, object, nullptr);
+    walk_mesh_packet(s, r, w, mesh, object, nullptr, nullptr);
 }
 
 // Marks the lanes of now_blocked in blocked[] and takes them out of r.live.
@@ -877,7 +954,7 @@ inline void occluded_mesh_packet(PacketRays& r, const MeshView& mesh, float t_mi
         per_lane = make_watertight_lanes(r, axes, set_count);
     ShearedVertices sheared;
     const VF t_min_v = splat(t_min);
-    auto visit_leaf = [&](uint32_t first_block, VM reached) {
+    auto visit_leaf = [&](uint32_t first_block, VM reached, const LeafBox&) {
         VM lanes = reached & r.live;
         for (uint32_t block = first_block; any(lanes);) {
             const unsigned char* group = mesh.groups[block].bytes;
@@ -991,10 +1068,12 @@ inline VM shape_hits(const PacketSceneView& view, const Instance& instance, cons
 }
 
 // The closest hits of the lanes `lanes` with a sphere or plane instance, offered as
-// intersect_instance offers them (u = v = 0, primitive 0).
-inline void intersect_shape_lanes(PacketState& s, const PacketRays& r, uint32_t id, VM lanes) {
+// intersect_instance offers them (u = v = 0, primitive 0): those that count in the instance
+// BVH's leaf `leaf` (node_floor).
+inline void intersect_shape_lanes(PacketState& s, const PacketRays& r, uint32_t id, VM lanes, const BvhNode* leaf) {
     VF t;
-    const VM hit = shape_hits(s.view, s.view.instances[id], r, lanes, s.t_min_v, t);
+    VM hit = shape_hits(s.view, s.view.instances[id], r, lanes, s.t_min_v, t);
+    if (any(hit)) hit = hit & (node_floor(leaf, r, s.t_min_v) <= t);
     if (any(hit)) offer(s, hit, t, splat(0.0f), splat(0.0f), id, 0, 0, 0);
 }
 
@@ -1029,16 +1108,17 @@ inline void for_each_permutation(PacketRays& r, TraceFn&& trace) {
     }
 }
 
-// The closest hits of the lanes `lanes` of r (the packet of s) with one instance.
-inline void intersect_instance_packet(PacketState& s, const PacketRays& r, uint32_t id, VM lanes) {
+// The closest hits of the lanes `lanes` of r (the packet of s) with one instance, found in the
+// instance BVH's leaf `leaf` (null where its box was not tested).
+inline void intersect_instance_packet(PacketState& s, const PacketRays& r, uint32_t id, VM lanes, const BvhNode* leaf) {
     const PacketSceneView& view = s.view;
     const Instance& instance = view.instances[id];
     if (has_simd_test(instance.kind)) {
-        intersect_shape_lanes(s, r, id, lanes);
+        intersect_shape_lanes(s, r, id, lanes, leaf);
         return;
     }
     if (instance.kind != ShapeKind::Mesh) {
-        intersect_instance_lanes(s, id, lanes);
+        intersect_instance_lanes(s, r, id, lanes, leaf);
         return;
     }
     const MeshView& mesh = view.meshes[instance.shape];
@@ -1055,7 +1135,7 @@ inline void intersect_instance_packet(PacketState& s, const PacketRays& r, uint3
     PacketRays local =
         instance.transform == kNoTransformIndex ? r : transform_packet(r, view.object_from_world[instance.transform]);
     if (!coherent(local)) {
-        intersect_instance_lanes(s, id, lanes);
+        intersect_instance_lanes(s, r, id, lanes, leaf);
         return;
     }
     for_each_permutation(local, [&](const PacketRays& subset, const WatertightPacket& w) {
@@ -1071,13 +1151,15 @@ inline void trace_packet(const PacketSceneView& view, const Ray* rays, int count
     refresh_best(s);
 
     // Planes are unbounded and few: each is tested outside the BVH, as the single-ray path does.
-    for (uint32_t i = 0; i < view.plane_count; ++i) intersect_shape_lanes(s, r, view.plane_instances[i], r.live);
+    for (uint32_t i = 0; i < view.plane_count; ++i)
+        intersect_shape_lanes(s, r, view.plane_instances[i], r.live, nullptr);
     if (view.instance_node_count == 0) return;
 
     traverse_packet(
         view.instance_nodes, r, s.t_min_v, [&] { return cull_distance_v(s.best_t); },
-        [&](uint32_t first, uint32_t n, VM lanes) {
-            for (uint32_t i = first; i < first + n; ++i) intersect_instance_packet(s, r, view.instance_ids[i], lanes);
+        [&](uint32_t first, uint32_t n, VM lanes, const BvhNode* leaf) {
+            for (uint32_t i = first; i < first + n; ++i)
+                intersect_instance_packet(s, r, view.instance_ids[i], lanes, leaf);
             return false;
         });
 }
@@ -1108,7 +1190,7 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
         occluded_shape_lanes(view, view.plane_instances[i], r, t_min_v, t_max_v, blocked);
     if (view.instance_node_count == 0 || !any(r.live)) return;
 
-    traverse_packet(view.instance_nodes, r, t_min_v, [&] { return t_cull; }, [&](uint32_t first, uint32_t n, VM) {
+    traverse_packet(view.instance_nodes, r, t_min_v, [&] { return t_cull; }, [&](uint32_t first, uint32_t n, VM, const BvhNode*) {
         for (uint32_t i = first; i < first + n; ++i) {
             const uint32_t id = view.instance_ids[i];
             const Instance& instance = view.instances[id];
@@ -1148,6 +1230,7 @@ inline void trace_packet_occluded(const PacketSceneView& view, const Ray* rays, 
 // One packet of a block: its rays, its triangle test's constants, its frustum, and its hits.
 struct SharedPacket {
     PacketRays r;
+    SameOctant octant;
     WatertightPacket w;
     PacketFrustum f;
     PacketState* s;
@@ -1259,8 +1342,9 @@ inline void traverse_frustum_shared(const MeshView& mesh, const PacketFrustum& b
             }
             for (unsigned b = wide8::bits(entry <= exit) & packet_lanes; b; b &= b - 1) {
                 const unsigned p = lowest_bit(b);
+                const LeafBox leaf{&parent, current.slot, SlabTest::SameOctant, &packets[p].octant};
                 intersect_leaf_packet(*packets[p].s, packets[p].r, packets[p].w, mesh, object,
-                                      current.ref & kWidePayloadMask, sheared);
+                                      current.ref & kWidePayloadMask, leaf, sheared);
                 culls[p] = packet_cull(packets[p]);
             }
             cull = max_cull();
@@ -1293,11 +1377,11 @@ inline bool trace_packets_together(const PacketSceneView& view, const Ray* rays,
     for (int p = 0; p < packet_count; ++p) {
         SharedPacket& packet = packets[p];
         packet.r = load_packet(rays + p * kLanes, rays_in(p));
-        SameOctant octant;
         AxisSet sets[6];
-        if (!same_octant(packet.r, octant) || !one_origin(packet.r) || axis_sets(packet.r, sets) != 1) return false;
+        if (!same_octant(packet.r, packet.octant) || !one_origin(packet.r) || axis_sets(packet.r, sets) != 1)
+            return false;
         packet.w = make_watertight_packet(packet.r, sets[0]);
-        packet.f = make_frustum(packet.r, octant);
+        packet.f = make_frustum(packet.r, packet.octant);
         for (int axis = 0; axis < 3; ++axis)
             if (packet.f.near[axis] != packets[0].f.near[axis] || !(packet.f.origin[axis] == packets[0].f.origin[axis]))
                 return false;
@@ -1324,9 +1408,11 @@ inline bool trace_packets_together(const PacketSceneView& view, const Ray* rays,
         refresh_best(s);
         // Planes are unbounded and few: each is tested outside the BVH, as in trace_packet.
         for (uint32_t i = 0; i < view.plane_count; ++i)
-            intersect_shape_lanes(s, packet.r, view.plane_instances[i], packet.r.live);
+            intersect_shape_lanes(s, packet.r, view.plane_instances[i], packet.r.live, nullptr);
+        // The one leaf's box is not tested (as in trace_packet), so every hit counts.
         for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
-            if (!shared(view.instance_ids[i])) intersect_instance_packet(s, packet.r, view.instance_ids[i], packet.r.live);
+            if (!shared(view.instance_ids[i]))
+                intersect_instance_packet(s, packet.r, view.instance_ids[i], packet.r.live, nullptr);
     }
     const PacketFrustum block = shared_frustum(packets, packet_count);
     for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
@@ -1336,7 +1422,7 @@ inline bool trace_packets_together(const PacketSceneView& view, const Ray* rays,
         if (!mesh.nodes) continue;
         if (frustum_too_wide(block, mesh)) {  // each packet as in trace_packet
             for (int p = 0; p < packet_count; ++p)
-                walk_mesh_packet(*packets[p].s, packets[p].r, packets[p].w, mesh, id, &packets[p].f);
+                walk_mesh_packet(*packets[p].s, packets[p].r, packets[p].w, mesh, id, &packets[p].f, &packets[p].octant);
             continue;
         }
         traverse_frustum_shared(mesh, block, packets, packet_count, t_min, id);

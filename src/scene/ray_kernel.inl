@@ -109,11 +109,13 @@ inline unsigned hit_children(const WideBvhNode& node, const BoxTraversal& r, con
 }
 
 // Visits the leaves whose boxes the ray enters, nearest child first, skipping subtrees that start
-// beyond t_cull() (read again after every leaf, which may bring it nearer). visit_leaf(payload)
-// returns true to stop (an any-hit query that has its answer); then so does this. With kCount,
-// every child box tested adds one to *nodes_visited. kWidenInverse needs t_min >= 0. Without
-// kNearFirst, children are visited in slot order: for an any-hit query, whose cull distance never
-// changes, sorting cost more (its branches mispredict) than finding a blocker sooner saved.
+// beyond t_cull() (read again after every leaf, which may bring it nearer). visit_leaf(payload,
+// t_entry), t_entry being where the ray enters the leaf's box (for the closest-hit query's
+// leaf_floor, bvh.h), returns true to stop (an any-hit query that has its answer); then so does
+// this. With kCount, every child box tested adds one to *nodes_visited. kWidenInverse needs
+// t_min >= 0. Without kNearFirst, children are visited in slot order: for an any-hit query,
+// whose cull distance never changes, sorting cost more (its branches mispredict) than finding a
+// blocker sooner saved.
 // skipped(node, hits) gives the slots of `hits` not to enter however their box tests went (an
 // any-hit query passing over back faces, scene/back_faces.h; none for the others).
 template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename CullFn, typename LeafFn,
@@ -128,6 +130,7 @@ template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename Cull
     Pending stack[kWideStackSize];
     int stack_size = 0;
     uint32_t ref = 0;  // the root node
+    float ref_entry = -INFINITY;  // where the ray enters ref's box (the root's is not tested)
     float cull = t_cull();
     NodeF cull_v = splat_node(cull);
     for (;;) {
@@ -138,10 +141,13 @@ template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename Cull
             unsigned hits = hit_children<kWidenInverse>(node, r, cull_v, t_entry);
             if (hits != 0) hits &= ~skipped(ref, hits);
             if (hits != 0) {
+                float t[kWideBvhWidth];
+                store(t, t_entry);
                 const unsigned first = lowest_bit(hits);
                 hits &= hits - 1;
                 if (hits == 0) {  // one child: no ordering, no stack
                     ref = node.child[first];
+                    ref_entry = t[first];
                     continue;
                 }
                 // At most kWideBvhWidth - 1 entries per level above the node (kWideStackSize).
@@ -151,8 +157,6 @@ template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename Cull
                     ref = node.child[first];
                     continue;
                 }
-                float t[kWideBvhWidth];
-                store(t, t_entry);
                 const unsigned second = lowest_bit(hits);
                 hits &= hits - 1;
                 if (hits == 0) {  // two children, the commonest case after one
@@ -160,6 +164,7 @@ template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename Cull
                     stack[stack_size++] = first_nearer ? Pending{node.child[second], t[second]}
                                                        : Pending{node.child[first], t[first]};
                     ref = node.child[first_nearer ? first : second];
+                    ref_entry = t[first_nearer ? first : second];
                     continue;
                 }
                 // More: all but the nearest wait on the stack, the farthest deepest.
@@ -175,10 +180,11 @@ template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename Cull
                 }
                 for (int i = 0; i + 1 < count; ++i) stack[stack_size++] = entered[i];
                 ref = entered[count - 1].ref;
+                ref_entry = entered[count - 1].t_entry;
                 continue;
             }
         } else {
-            if (visit_leaf(ref & kWidePayloadMask)) return true;
+            if (visit_leaf(ref & kWidePayloadMask, ref_entry)) return true;
             cull = t_cull();
             cull_v = splat_node(cull);
         }
@@ -188,6 +194,7 @@ template <bool kCount, bool kWidenInverse, bool kNearFirst = true, typename Cull
             const Pending next = stack[--stack_size];
             if (next.t_entry <= cull) {
                 ref = next.ref;
+                ref_entry = next.t_entry;
                 break;
             }
         }
@@ -310,9 +317,10 @@ inline bool closer(float t, uint32_t object, uint32_t prim, const Hit& best) {
     return object != best.object ? object < best.object : prim < best.prim;
 }
 
-// Merges the hits of one leaf's groups into `best`.
-inline void intersect_leaf(const GroupBlock* groups, uint32_t first_block, const GroupRay& r, uint32_t object,
-                           Hit& best) {
+// Merges the hits of one leaf's groups into `best`: those at t >= t_floor, the leaf_floor of
+// where the ray enters the leaf's box (bvh.h).
+inline void intersect_leaf(const GroupBlock* groups, uint32_t first_block, float t_floor, const GroupRay& r,
+                           uint32_t object, Hit& best) {
     uint32_t block = first_block;
     for (;;) {
         // A compiler barrier, no instruction: without it GCC loads the ray's seven registers
@@ -323,7 +331,7 @@ inline void intersect_leaf(const GroupBlock* groups, uint32_t first_block, const
         const unsigned char* group = groups[block].bytes;
         const GroupHits h = test_group_lanes(group, r);
         unsigned hits = h.hits;
-        if (hits != 0) hits &= bits(h.t <= splat8(best.t));
+        if (hits != 0) hits &= bits((h.t <= splat8(best.t)) & (splat8(t_floor) <= h.t));
         if (hits != 0) {
             float t[8];
             store(t, h.t);
@@ -375,15 +383,19 @@ void intersect(const MeshView& mesh, const Ray& ray, float t_min, uint32_t objec
     GroupRay r;  // made at the first leaf: most rays that miss never reach one
     bool have_group_ray = false;
     auto t_cull = [&] { return cull_distance_scalar(best.t); };
-    auto visit_leaf = [&](uint32_t first_block) {
+    auto visit_leaf = [&](uint32_t first_block, float leaf_entry) {
         if (!have_group_ray) {
             r = make_group_ray(ray, t_min);
             have_group_ray = true;
         }
-        intersect_leaf(mesh.groups, first_block, r, object, best);
+        intersect_leaf(mesh.groups, first_block, leaf_floor_scalar(leaf_entry), r, object, best);
         return false;
     };
-    if (nodes_visited)
+    // Counting or not, the same slab test, so that every leaf's entry (and so leaf_floor) is the
+    // same: the cost mode's hits are the other modes'.
+    if (nodes_visited && t_min >= 0)
+        traverse_wide<true, true>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nodes_visited, no_slots);
+    else if (nodes_visited)
         traverse_wide<true, false>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nodes_visited, no_slots);
     else if (t_min >= 0)
         traverse_wide<false, true>(mesh.nodes, ray, t_min, t_cull, visit_leaf, nullptr, no_slots);
@@ -396,7 +408,7 @@ bool occluded(const MeshView& mesh, const Ray& ray, float t_min, float t_max) {
     bool have_group_ray = false;
     const float t_cull = cull_distance_scalar(t_max);  // as traverse_bvh culls an any-hit query
     auto cull = [t_cull] { return t_cull; };
-    auto visit_leaf = [&](uint32_t first_block) {
+    auto visit_leaf = [&](uint32_t first_block, float) {
         if (!have_group_ray) {
             r = make_group_ray(ray, t_min);
             have_group_ray = true;
