@@ -42,17 +42,23 @@ constexpr int kMaxSahDepth = 64;
 /// order of traversal, so every traversal path finds the same closest hit.
 inline float cull_distance(float t_best) { return t_best + std::fabs(t_best) * (1.0f / 1024); }
 
-/// The nearest a hit may lie and count, in a BVH leaf whose box the ray enters at `leaf_entry`:
-/// a little before the entry (half the cull slack, so that cull_distance of such a hit still
-/// reaches the entry). A hit nearer than that could be found or not depending on the order of
-/// traversal: a hit found first elsewhere, between the two, culls the leaf. A true hit lies
-/// inside its leaf's box and always counts; a triangle test rounded far off (a triangle 1e18
-/// long, seen from near one end; docs/reliability.md, finding 11) can report one well before
-/// it, and every path drops such a hit alike.
+/// The nearest a hit may lie, in a BVH leaf whose box the ray enters at `leaf_entry`: a little
+/// before the entry (half the cull slack, so that cull_distance of a hit there still reaches the
+/// entry). A hit reported nearer could be found or not depending on the order of traversal: a
+/// hit found first elsewhere, between the two, culls the leaf. So every path moves such a hit up
+/// to the floor (at_leaf_floor). A true hit lies inside its leaf's box, and its computed t comes
+/// that near only by rounding: a triangle 2000 wide seen from 0.1 above its plane (the t of its
+/// watertight test, a weighted sum of corner distances near 1000, is then off by a few parts in
+/// 10^4), or a triangle 1e18 long seen from near one end, whose test can report a hit well
+/// before its box (docs/reliability.md, finding 11). Moving the hit keeps it, where dropping it
+/// would leave holes in the first.
 inline float leaf_floor(float leaf_entry) { return leaf_entry - std::fabs(leaf_entry) * (1.0f / 2048); }
 
-/// Whether a hit at `t` counts in a leaf whose box the ray enters at `leaf_entry` (leaf_floor).
-inline bool counts_in_leaf(float t, float leaf_entry) { return t >= leaf_floor(leaf_entry); }
+/// A hit at `t` in a leaf whose box the ray enters at `leaf_entry`, moved up to leaf_floor.
+inline float at_leaf_floor(float t, float leaf_entry) {
+    const float floor = leaf_floor(leaf_entry);
+    return t < floor ? floor : t;
+}
 
 /// A ray prepared for box tests: 1/direction with zero components replaced by tiny ones, so that
 /// no 0·∞ makes a NaN.
@@ -97,7 +103,7 @@ inline bool intersect_box(const Bounds3f& box, const BoxRay& ray, float t_cull, 
 
 /// Visits the leaves whose boxes the ray meets, nearer child first, skipping boxes that start
 /// beyond cull_distance(t_best()). For each leaf calls visit_leaf(first, count, t_entry), t_entry
-/// being where the ray enters the leaf's box (for counts_in_leaf), which returns true to stop (an
+/// being where the ray enters the leaf's box (for at_leaf_floor), which returns true to stop (an
 /// any-hit query that found a hit). Returns true if it was stopped.
 /// `t_best` is re-read after every leaf, so the leaf callback may shrink it. If `nodes_visited`
 /// is given, every node whose box is tested adds one to it.

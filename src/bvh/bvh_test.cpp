@@ -528,15 +528,17 @@ TEST(BvhTraversal, RaysLyingInABoxFaceAreNotCulled) {
         if (!expect_same_as_brute_force(checked_ball_scene, {centre, p - centre}, 0)) return;
 }
 
-TEST(BvhTraversal, AHitCountsFromHalfTheCullSlackBeforeItsLeafsBox) {
+TEST(BvhTraversal, AHitLiesNoNearerThanHalfTheCullSlackBeforeItsLeafsBox) {
     // leaf_floor(e) = e - |e|/2048: 100 - 0.048828125, exactly.
     EXPECT_EQ(leaf_floor(100.0f), 99.951171875f);
     EXPECT_EQ(leaf_floor(-100.0f), -100.048828125f);
-    EXPECT_TRUE(counts_in_leaf(99.951171875f, 100.0f));
-    EXPECT_FALSE(counts_in_leaf(std::nextafter(99.951171875f, 0.0f), 100.0f));
-    EXPECT_TRUE(counts_in_leaf(-1e30f, -INFINITY));  // no box was tested: every hit counts
-    // A hit that counts culls nothing in front of its own leaf: the cull distance of the nearest
-    // such hit still reaches the leaf's entry, so the leaf is visited whatever was found first.
+    EXPECT_EQ(at_leaf_floor(99.96f, 100.0f), 99.96f);  // at or beyond the floor: as it is
+    EXPECT_EQ(at_leaf_floor(99.951171875f, 100.0f), 99.951171875f);
+    EXPECT_EQ(at_leaf_floor(std::nextafter(99.951171875f, 0.0f), 100.0f), 99.951171875f);
+    EXPECT_EQ(at_leaf_floor(1.78f, 1.936f), leaf_floor(1.936f));
+    EXPECT_EQ(at_leaf_floor(-1e30f, -INFINITY), -1e30f);  // no box was tested: no floor
+    // A hit at or beyond the floor culls nothing in front of its own leaf: its cull distance
+    // still reaches the leaf's entry, so the leaf is visited whatever was found first.
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> exponent(-30, 30);
     for (int i = 0; i < 10000; ++i) {

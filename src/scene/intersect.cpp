@@ -42,12 +42,12 @@ struct Query {
     TraceCounters* counters;
     const uint8_t* skip_back_faces = nullptr;  // any-hit: per instance, as occluded() takes it
     // Closest-hit: where the ray enters the box of the instance BVH's leaf being tested (-inf
-    // where no box was tested); a sphere's, triangle's or surface's hit counts only where
-    // counts_in_leaf says so (a mesh's hits are held to its own BVH's leaves in the kernel).
+    // where no box was tested); a sphere's, triangle's or surface's hit is moved up to that
+    // leaf's floor (at_leaf_floor; a mesh's hits are held to its own BVH's leaves in the kernel).
     float leaf_entry = -INFINITY;
 
     void offer_shape(float t, float u, float v, uint32_t object, uint32_t prim) {
-        if (counts_in_leaf(t, leaf_entry)) offer(best, t, u, v, object, prim);
+        offer(best, at_leaf_floor(t, leaf_entry), u, v, object, prim);
     }
 
     // Returns true when an any-hit query has its answer.

@@ -281,8 +281,8 @@ inline VM child_hits(const WideBvhNode& node, uint32_t slot, const PacketRays& r
 inline VF leaf_floor_v(VF leaf_entry) { return leaf_entry - vabs(leaf_entry) * splat(1.0f / 2048); }
 
 // Each lane's leaf_floor (bvh.h) for the instance BVH's leaf `leaf`, from its own box test of
-// the leaf (the single-ray path's intersect_box): +inf in the lanes whose rays miss the box (none
-// of their hits there counts), -inf in every lane where no box was tested (leaf null).
+// the leaf (the single-ray path's intersect_box): +inf in the lanes whose rays miss the box (no
+// hit of theirs there is kept), -inf in every lane where no box was tested (leaf null).
 inline VF node_floor(const BvhNode* leaf, const PacketRays& r, VF t_min) {
     if (!leaf) return splat(-__builtin_inff());
     VF t_entry;
@@ -548,7 +548,7 @@ struct LeafBox {
 // Each lane's leaf_floor (bvh.h) for a leaf of a mesh's wide BVH: from the walk's own test of the
 // leaf's box in that lane (what the single-ray kernel's test computes, where t_min >= 0) where
 // the walk found it (LeafBox::t_entry), else from that test made now; +inf in the lanes whose
-// rays did not enter the box (none of their hits there counts).
+// rays did not enter the box (no hit of theirs there is kept).
 inline VF leaf_floor_lanes(const LeafBox& leaf, const PacketRays& r, VF t_min) {
     if (leaf.t_entry) return select(leaf.entered, leaf_floor_v(*leaf.t_entry), splat(__builtin_inff()));
     const VF no_cull = splat(__builtin_inff());
@@ -853,8 +853,9 @@ inline void intersect_instance_lanes(PacketState& s, const PacketRays& r, uint32
     refresh_best(s);
 }
 
-// Closest hits of the rays of r.live, which share w's permutation, with one leaf's triangles:
-// those no nearer than each lane's leaf_floor (leaf_floor_lanes).
+// Closest hits of the rays of r.live, which share w's permutation, with one leaf's triangles,
+// each moved up to its lane's leaf_floor (leaf_floor_lanes); none in the lanes whose rays did not
+// enter the leaf's box (a packet tests a leaf in every lane; a single ray would not reach it).
 inline void intersect_leaf_packet(PacketState& s, const PacketRays& r, const WatertightPacket& w, const MeshView& mesh,
                                   uint32_t object, uint32_t first_block, const LeafBox& leaf, ShearedVertices& sheared) {
     VF t_floor;  // found at the first hit (most leaves have none)
@@ -871,9 +872,10 @@ inline void intersect_leaf_packet(PacketState& s, const PacketRays& r, const Wat
                 t_floor = leaf_floor_lanes(leaf, r, s.t_min_v);
                 have_floor = true;
             }
-            const VM counted = h.hit & (t_floor <= h.t);
+            const VM counted = h.hit & (t_floor < splat(__builtin_inff()));
             // The triangle's id is read only for a hit: the last part of the group.
-            if (any(counted)) offer(s, counted, h.t, h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block, lane);
+            if (any(counted))
+                offer(s, counted, vmax(h.t, t_floor), h.u1 / h.det, h.u2 / h.det, object, group_id(group, lane), block, lane);
         }
         if (group[2] & kGroupEndsLeaf) return;
         block += group_blocks(group[0], group[1]);
@@ -1068,13 +1070,15 @@ inline VM shape_hits(const PacketSceneView& view, const Instance& instance, cons
 }
 
 // The closest hits of the lanes `lanes` with a sphere or plane instance, offered as
-// intersect_instance offers them (u = v = 0, primitive 0): those that count in the instance
-// BVH's leaf `leaf` (node_floor).
+// intersect_instance offers them (u = v = 0, primitive 0), moved up to each lane's floor in the
+// instance BVH's leaf `leaf` (node_floor), none in the lanes whose rays miss its box.
 inline void intersect_shape_lanes(PacketState& s, const PacketRays& r, uint32_t id, VM lanes, const BvhNode* leaf) {
     VF t;
     VM hit = shape_hits(s.view, s.view.instances[id], r, lanes, s.t_min_v, t);
-    if (any(hit)) hit = hit & (node_floor(leaf, r, s.t_min_v) <= t);
-    if (any(hit)) offer(s, hit, t, splat(0.0f), splat(0.0f), id, 0, 0, 0);
+    if (!any(hit)) return;
+    const VF t_floor = node_floor(leaf, r, s.t_min_v);
+    hit = hit & (t_floor < splat(__builtin_inff()));
+    if (any(hit)) offer(s, hit, vmax(t, t_floor), splat(0.0f), splat(0.0f), id, 0, 0, 0);
 }
 
 // The any hits nearer than t_max of the live lanes with a sphere or plane instance.

@@ -52,9 +52,9 @@ struct PacketSceneView {
     const Plane* planes = nullptr;    ///< scene.planes, likewise
 };
 
-/// The closest hit of one instance along a world-space ray, merged into `hit` (where
-/// counts_in_leaf(t, leaf_entry) says it counts: leaf_entry is where the ray enters the box of
-/// the instance BVH's leaf that holds it, -inf for none), and whether one instance has a hit with
+/// The closest hit of one instance along a world-space ray, merged into `hit` (at
+/// at_leaf_floor(t, leaf_entry): leaf_entry is where the ray enters the box of the instance
+/// BVH's leaf that holds it, -inf for none), and whether one instance has a hit with
 /// t_min < t < t_max (scalar code, defined in intersect.cpp): the packet kernels use them for
 /// spheres, single triangles and planes.
 void intersect_instance(const Scene& scene, uint32_t id, const Ray& world_ray, float t_min, float leaf_entry, Hit& hit);

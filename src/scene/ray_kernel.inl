@@ -317,8 +317,8 @@ inline bool closer(float t, uint32_t object, uint32_t prim, const Hit& best) {
     return object != best.object ? object < best.object : prim < best.prim;
 }
 
-// Merges the hits of one leaf's groups into `best`: those at t >= t_floor, the leaf_floor of
-// where the ray enters the leaf's box (bvh.h).
+// Merges the hits of one leaf's groups into `best`, each at t moved up to t_floor where it lies
+// nearer (t_floor: the leaf_floor of where the ray enters the leaf's box, bvh.h).
 inline void intersect_leaf(const GroupBlock* groups, uint32_t first_block, float t_floor, const GroupRay& r,
                            uint32_t object, Hit& best) {
     uint32_t block = first_block;
@@ -331,10 +331,14 @@ inline void intersect_leaf(const GroupBlock* groups, uint32_t first_block, float
         const unsigned char* group = groups[block].bytes;
         const GroupHits h = test_group_lanes(group, r);
         unsigned hits = h.hits;
-        if (hits != 0) hits &= bits((h.t <= splat8(best.t)) & (splat8(t_floor) <= h.t));
+        F8 t_hit;  // t, moved up to t_floor where it lies nearer (bvh.h's at_leaf_floor)
+        if (hits != 0) {
+            t_hit = vmax(h.t, splat8(t_floor));
+            hits &= bits(t_hit <= splat8(best.t));
+        }
         if (hits != 0) {
             float t[8];
-            store(t, h.t);
+            store(t, t_hit);
             int winner = -1;
             for (; hits; hits &= hits - 1) {
                 const unsigned lane = lowest_bit(hits);
