@@ -74,6 +74,14 @@ bool parse_switch(const std::string& text, bool& value) {
     return false;
 }
 
+// The refusal of a parameter that puts `what` (the camera, a point light) at `p`, beyond the
+// coordinate limit that the scene file's own positions keep (NaN included); empty within it.
+std::string beyond_coordinate_limit(const std::string& parameter, const char* what, Vec3f p) {
+    if (max_abs(p) <= kMaxCoordinate) return {};
+    return string_printf("parameter '%s' puts %s at coordinates of %g, beyond raycast's limit of %g", parameter.c_str(),
+                         what, double(max_abs(p)), double(kMaxCoordinate));
+}
+
 // A query value as it may be shown in a message: short, printable ASCII (the answer is UTF-8
 // text, and a decoded %FF is no character).
 std::string shown(const std::string& value) {
@@ -440,10 +448,7 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
     request.desc = loaded_.desc;
     request.camera = *loaded_.desc->camera;
     CameraDesc& camera = request.camera;
-    if (has_eye && !(max_abs(eye) <= kMaxCoordinate))
-        return error = string_printf("parameter 'eye' puts the camera at coordinates of %g, beyond raycast's limit of %g",
-                                     double(max_abs(eye)), double(kMaxCoordinate)),
-               false;
+    if (has_eye && !(error = beyond_coordinate_limit("eye", "the camera", eye)).empty()) return false;
     if (has_eye) camera.center = eye;
     if (has_direction) camera.direction = direction;
     if (has_up) camera.up = up;
@@ -469,10 +474,9 @@ bool ViewSession::parse_request(const QueryParameters& query, bool explaining, R
             return error = name + " must not be the zero vector (light" + std::to_string(move.index) +
                            " is a directional light), got " + shown(move.text),
                    false;
-        if (lights[move.index].kind == LightDesc::Kind::Point && !(max_abs(move.to) <= kMaxCoordinate))
-            return error = name + string_printf(" puts a point light at coordinates of %g, beyond raycast's limit of %g",
-                                                double(max_abs(move.to)), double(kMaxCoordinate)),
-                   false;
+        if (lights[move.index].kind == LightDesc::Kind::Point &&
+            !(error = beyond_coordinate_limit(move.name, "a point light", move.to)).empty())
+            return false;
     }
     if (is_zero(camera.direction)) return error = "the camera direction must not be the zero vector", false;
     if (is_zero(camera.up)) return error = "the camera up must not be the zero vector", false;
