@@ -278,16 +278,19 @@ inline VM child_hits(const WideBvhNode& node, uint32_t slot, const PacketRays& r
     return (t0 <= t1) & r.live;
 }
 
-inline VF leaf_floor_v(VF leaf_entry) { return leaf_entry - vabs(leaf_entry) * splat(1.0f / 2048); }
+// Each lane's leaf_floor (bvh.h) in the lanes whose rays entered the leaf's box at t_entry; +inf
+// in the others (no hit of theirs in that leaf is kept: a single ray would not have reached it).
+inline VF leaf_floor_v(VM entered, VF t_entry) {
+    return select(entered, t_entry - vabs(t_entry) * splat(1.0f / 2048), splat(__builtin_inff()));
+}
 
-// Each lane's leaf_floor (bvh.h) for the instance BVH's leaf `leaf`, from its own box test of
-// the leaf (the single-ray path's intersect_box): +inf in the lanes whose rays miss the box (no
-// hit of theirs there is kept), -inf in every lane where no box was tested (leaf null).
+// Each lane's leaf_floor_v for the instance BVH's leaf `leaf`, from its own box test of the leaf
+// (the single-ray path's intersect_box); -inf in every lane where no box was tested (leaf null).
 inline VF node_floor(const BvhNode* leaf, const PacketRays& r, VF t_min) {
     if (!leaf) return splat(-__builtin_inff());
     VF t_entry;
     const VM meets = node_hits(*leaf, r, t_min, splat(__builtin_inff()), t_entry);
-    return select(meets, leaf_floor_v(t_entry), splat(__builtin_inff()));
+    return leaf_floor_v(meets, t_entry);
 }
 
 // Walks the (binary) instance BVH with the packet; visit_leaf(first, count, lanes, leaf) is called
@@ -533,47 +536,34 @@ inline void traverse_frustum(const MeshView& mesh, const PacketFrustum& f, float
 }
 #endif
 
-// A leaf of a mesh's wide BVH as a walk reached it: what leaf_floor_lanes needs. A walk that
-// tested the leaf's box lane by lane gives each lane's entry and the lanes that entered; the
-// frustum walk gives where the box is and how to test it.
+// A leaf of a mesh's wide BVH as a walk reached it: what leaf_floor_lanes needs. The walk that
+// tests boxes lane by lane gives each lane's entry and the lanes that entered; a frustum walk
+// (its rays all go one way, t_min >= 0) gives where the box is, to be tested lane by lane.
 struct LeafBox {
-    const WideBvhNode* parent;  // the node whose child the leaf is
-    uint32_t slot;
-    SlabTest test;
-    const SameOctant* octant;
     const VF* t_entry = nullptr;  // the lane-by-lane walk's entries (null: test the box)
     VM entered = {};              // with t_entry: the lanes whose tests entered the box
+    const WideBvhNode* parent = nullptr;  // without: the node whose child the leaf is
+    uint32_t slot = 0;
+    const SameOctant* octant = nullptr;
 };
 
-// Each lane's leaf_floor (bvh.h) for a leaf of a mesh's wide BVH: from the walk's own test of the
-// leaf's box in that lane (what the single-ray kernel's test computes, where t_min >= 0) where
-// the walk found it (LeafBox::t_entry), else from that test made now; +inf in the lanes whose
-// rays did not enter the box (no hit of theirs there is kept).
+// Each lane's leaf_floor_v for a leaf of a mesh's wide BVH, from the walk's own test of the
+// leaf's box in that lane where it made one (LeafBox::t_entry), else from the SameOctant test made
+// now (a frustum walk's rays go one way): either computes what the single-ray kernel's test does.
 inline VF leaf_floor_lanes(const LeafBox& leaf, const PacketRays& r, VF t_min) {
-    if (leaf.t_entry) return select(leaf.entered, leaf_floor_v(*leaf.t_entry), splat(__builtin_inff()));
-    const VF no_cull = splat(__builtin_inff());
+    if (leaf.t_entry) return leaf_floor_v(leaf.entered, *leaf.t_entry);
     VF t_entry;
-    VM meets;
-    switch (leaf.test) {
-        case SlabTest::Widened:
-            meets = child_hits<SlabTest::Widened>(*leaf.parent, leaf.slot, r, *leaf.octant, t_min, no_cull, t_entry);
-            break;
-        case SlabTest::SameOctant:
-            meets = child_hits<SlabTest::SameOctant>(*leaf.parent, leaf.slot, r, *leaf.octant, t_min, no_cull, t_entry);
-            break;
-        default:
-            meets = child_hits<SlabTest::AnyOctant>(*leaf.parent, leaf.slot, r, *leaf.octant, t_min, no_cull, t_entry);
-            break;
-    }
-    return select(meets, leaf_floor_v(t_entry), splat(__builtin_inff()));
+    const VM meets =
+        child_hits<SlabTest::SameOctant>(*leaf.parent, leaf.slot, r, *leaf.octant, t_min, splat(__builtin_inff()), t_entry);
+    return leaf_floor_v(meets, t_entry);
 }
 
 // Walks a mesh's wide BVH with the packet: every child box of a node is tested in every lane,
 // the children some lane enters are visited nearest first (as the first lane that enters any of
 // them sees it), and the others wait on the stack as (node, slot), their box tested again when
 // popped. visit_leaf(payload, reached, leaf) is called with the live lanes whose box tests led to
-// the leaf and, in a closest-hit walk, where its box is (LeafBox; its parent is null in an any-hit
-// walk), and returns true to stop; t_cull() and r.live are re-read after it. Without kNearFirst,
+// the leaf and, in a closest-hit walk, where those lanes enter its box (LeafBox; an any-hit walk
+// does not keep the entries), and returns true to stop; t_cull() and r.live are re-read after it. Without kNearFirst,
 // children are visited in slot order (for an any-hit query, whose cull distance never changes).
 // skipped(node, slot) gives the lanes that need not enter that child however their box tests go
 // (an any-hit query passing over back faces, scene/back_faces.h; no lanes for the others).
@@ -593,7 +583,7 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
     uint32_t ref = 0;  // the root node
     VM reached = r.live;  // the lanes whose box tests led to ref
     VF ref_entry = splat(-__builtin_inff());  // closest-hit: where the lanes enter ref's box
-    LeafBox box{nullptr, 0, kTest, &octant, &ref_entry, r.live};
+    LeafBox box{&ref_entry, r.live};
     for (;;) {
         if ((ref & kWideLeafFlag) == 0) {
             const WideBvhNode& node = nodes[ref];
@@ -678,7 +668,7 @@ inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, cons
 template <bool kNearFirst, typename CullFn, typename LeafFn, typename SkipFn>
 inline void traverse_packet_wide(const MeshView& mesh, const PacketRays& r, float t_min, CullFn&& t_cull,
                                  LeafFn&& visit_leaf, SkipFn&& skipped) {
-    SameOctant octant{};  // read by the SameOctant test only, but a LeafBox carries it to every test
+    SameOctant octant;
     const VF t_min_v = splat(t_min);
     if (t_min < 0)
         traverse_packet_wide<SlabTest::Widened, kNearFirst>(mesh, r, octant, t_min_v, t_cull, visit_leaf, skipped);
@@ -894,7 +884,7 @@ inline void walk_mesh_packet(PacketState& s, const PacketRays& r, const Watertig
     if (frustum && !frustum_too_wide(*frustum, mesh)) {
         traverse_frustum(mesh, *frustum, s.t_min, [&] { return max_of_lanes(cull_distance_v(s.best_t), r.live); },
                          [&](uint32_t first_block, const WideBvhNode& parent, uint32_t slot) {
-                             const LeafBox leaf{&parent, slot, SlabTest::SameOctant, octant};
+                             const LeafBox leaf{nullptr, {}, &parent, slot, octant};
                              intersect_leaf_packet(s, r, w, mesh, object, first_block, leaf, sheared);
                              return false;
                          });
@@ -1346,7 +1336,7 @@ inline void traverse_frustum_shared(const MeshView& mesh, const PacketFrustum& b
             }
             for (unsigned b = wide8::bits(entry <= exit) & packet_lanes; b; b &= b - 1) {
                 const unsigned p = lowest_bit(b);
-                const LeafBox leaf{&parent, current.slot, SlabTest::SameOctant, &packets[p].octant};
+                const LeafBox leaf{nullptr, {}, &parent, current.slot, &packets[p].octant};
                 intersect_leaf_packet(*packets[p].s, packets[p].r, packets[p].w, mesh, object,
                                       current.ref & kWidePayloadMask, leaf, sheared);
                 culls[p] = packet_cull(packets[p]);
