@@ -3,7 +3,9 @@
 // shadows, mirrors and glass, samples, lenses, the normals, depth, material and ambient-occlusion
 // views) rendered by the normal path, for every packet ISA this CPU runs and one ray at a time,
 // agree pixel for pixel, bit for bit, with the brute-force reference (tests/reference_render.h: no
-// BVH, one ray at a time, every primitive tested). Camera rays are where packets and BVHs serve
+// BVH, one ray at a time, every primitive tested), but where the reference marks a hit uncertain:
+// one rounded to before its BVH leaf's box, which the BVH moves up to that leaf's floor (none in
+// these scenes today; TheReferenceMarksTheHitsMovedUpToTheirLeafsFloor shows some). Camera rays are where packets and BVHs serve
 // the render; the rays that shading traces (shadow, mirror, glass, occlusion) go through
 // intersect() and occluded(), which random rays check against the reference directly.
 // Exact equality is the promise (docs/architecture.md): every path runs the same float
@@ -12,6 +14,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -61,10 +65,11 @@ std::string reproduction(uint64_t seed, const RandomScene& random, const RandomR
     return text;
 }
 
-// Whether every path's render of the scene with `options` is `expected` bit for bit; reports the
-// first pixel that differs.
-bool renders_as_reference(const Scene& scene, RenderOptions options, const Image& expected, uint64_t seed,
-                          const RandomScene& random, const RandomRender& settings) {
+// Whether every path's render of the scene with `options` is `expected` bit for bit, except where
+// the reference marks a pixel `uncertain` (reference_render); reports the first pixel that differs.
+bool renders_as_reference(const Scene& scene, RenderOptions options, const Image& expected,
+                          const std::vector<uint8_t>& uncertain, uint64_t seed, const RandomScene& random,
+                          const RandomRender& settings) {
     for (const PacketIsa isa : kAllIsas) {
         if (!packet_isa_available(isa)) continue;
         options.packet_isa = isa;
@@ -73,6 +78,7 @@ bool renders_as_reference(const Scene& scene, RenderOptions options, const Image
             for (int x = 0; x < kWidth; ++x) {
                 const Vec3f a = image.at(x, y), b = expected.at(x, y);
                 if (same_float(a.x, b.x) && same_float(a.y, b.y) && same_float(a.z, b.z)) continue;
+                if (uncertain[static_cast<size_t>(y) * kWidth + x]) continue;
                 ADD_FAILURE() << packet_isa_name(isa) << " differs from the reference at pixel (" << x << ", " << y
                               << ") counted from the bottom: (" << a.x << ", " << a.y << ", " << a.z << ") vs ("
                               << b.x << ", " << b.y << ", " << b.z << ")\n"
@@ -109,9 +115,10 @@ bool check_seed(uint64_t seed) {
     if (!build_random_scene(seed, random, settings, scene)) return false;
     apply_lens(settings, scene);
     const ReferenceScene reference(scene);
-    const Image expected = reference_render(reference, settings.render);
+    std::vector<uint8_t> uncertain;
+    const Image expected = reference_render(reference, settings.render, &uncertain);
 
-    if (!renders_as_reference(scene, settings.render, expected, seed, random, settings)) return false;
+    if (!renders_as_reference(scene, settings.render, expected, uncertain, seed, random, settings)) return false;
 
     // The rays shading traces start anywhere and point anywhere, with any t range.
     for (int k = 0; k < kRandomRays; ++k) {
@@ -120,8 +127,9 @@ bool check_seed(uint64_t seed) {
         const float t_min = choices.one_in(2) ? 0.0f : choices.between(0, 2);
         Hit hit;
         intersect(scene, ray, t_min, hit);
-        const Hit expected_hit = reference.intersect(ray, t_min);
-        if (!same_hit(hit, expected_hit)) {
+        bool hit_uncertain = false;
+        const Hit expected_hit = reference.intersect(ray, t_min, &hit_uncertain);
+        if (!same_hit(hit, expected_hit) && !hit_uncertain) {
             ADD_FAILURE() << "intersect() " << describe(hit) << " differs from the reference " << describe(expected_hit)
                           << " for random ray " << k << "\n"
                           << reproduction(seed, random, settings);
@@ -181,8 +189,9 @@ bool check_closed_mesh_seed(uint64_t seed, int& failures) {
     bool skips = false;
     for (const SkippableBackFaces& light : make_integrator(scene, settings.render).back_faces_skippable)
         skips = skips || !light.instances.empty();
-    const Image expected = reference_render(ReferenceScene(scene), settings.render);
-    if (!renders_as_reference(scene, settings.render, expected, seed, random, settings)) {
+    std::vector<uint8_t> uncertain;
+    const Image expected = reference_render(ReferenceScene(scene), settings.render, &uncertain);
+    if (!renders_as_reference(scene, settings.render, expected, uncertain, seed, random, settings)) {
         ++failures;
         return false;
     }
@@ -210,7 +219,7 @@ INSTANTIATE_TEST_SUITE_P(Seeds, DifferentialClosedMeshes, ::testing::Range(0, 4)
 // scenes that never reach the interesting paths, would make the comparison above vacuous.
 TEST(DifferentialRenderSelfTest, TheRandomScenesHitEveryKindOfShapeAndUseEveryMode) {
     int hits_by_kind[5] = {0, 0, 0, 0, 0};
-    int transformed_hits = 0, misses = 0;
+    int transformed_hits = 0, misses = 0, uncertain = 0;
     for (uint64_t seed = 0; seed < 200; ++seed) {
         Choices choices(seed);
         const RandomScene random = random_scene(choices, SceneLimits{});
@@ -223,7 +232,10 @@ TEST(DifferentialRenderSelfTest, TheRandomScenesHitEveryKindOfShapeAndUseEveryMo
         const ReferenceScene reference(scene);
         for (int y = 0; y < kHeight; ++y)
             for (int x = 0; x < kWidth; ++x) {
-                const Hit hit = reference.intersect(camera_ray(scene.camera, float(x), float(y)), scene.camera.t_min);
+                bool hit_uncertain = false;
+                const Hit hit = reference.intersect(camera_ray(scene.camera, float(x), float(y)), scene.camera.t_min,
+                                                    &hit_uncertain);
+                uncertain += hit_uncertain ? 1 : 0;
                 if (!hit.is_hit()) {
                     ++misses;
                     continue;
@@ -234,9 +246,9 @@ TEST(DifferentialRenderSelfTest, TheRandomScenesHitEveryKindOfShapeAndUseEveryMo
             }
     }
     std::printf("camera rays of 200 scenes: %d spheres, %d planes, %d triangles, %d mesh triangles (%d transformed), "
-                "%d surfaces of revolution, %d misses\n",
+                "%d surfaces of revolution, %d misses; %d hits uncertain\n",
                 hits_by_kind[0], hits_by_kind[1], hits_by_kind[2], hits_by_kind[3], transformed_hits, hits_by_kind[4],
-                misses);
+                misses, uncertain);
     // Of the 9,600 rays, the generator of today sends about 800 to spheres, 1700 to planes, 220
     // to triangles, 930 to meshes (390 of them through transforms), 450 to surfaces of revolution
     // and 5500 to the background: about half of that is the floor below which the comparison
@@ -248,6 +260,56 @@ TEST(DifferentialRenderSelfTest, TheRandomScenesHitEveryKindOfShapeAndUseEveryMo
     EXPECT_GT(hits_by_kind[static_cast<int>(ShapeKind::RevSurface)], 200);
     EXPECT_GT(transformed_hits, 250);
     EXPECT_GT(misses, 2400);
+    // Pixels the reference marks uncertain are not compared. None were in 20,000 of these scenes
+    // (and 13,698 of the fuzz target's with moderate numbers): more than 1% would make the
+    // comparison hollow.
+    EXPECT_LE(uncertain, 96);
+}
+
+// The one difference by design (ReferenceScene::intersect's `uncertain`): a hit that rounding
+// puts before the box of its BVH leaf is moved up to that leaf's floor (bvh.h), which brute
+// force cannot do. A floor 2000 wide seen from 0.1 above it, with moderate numbers, has many:
+// its watertight t is off by a few parts in 10^4 near the camera (RenderTest's
+// AFloorSeenFromJustAboveHasNoHoles). In depth mode, where t itself is the pixel, every path's
+// image differs from the reference there, and only where the reference says it may.
+TEST(DifferentialRenderSelfTest, TheReferenceMarksTheHitsMovedUpToTheirLeafsFloor) {
+    const std::map<std::string, std::string> meshes = {
+        {"floor.obj", "v -1000 0 -1000\nv 1000 0 -1000\nv 1000 0 1000\nv -1000 0 1000\nf 1 3 2\nf 1 4 3\n"}};
+    SceneLoadOptions load;
+    load.in_memory_meshes = &meshes;
+    SceneBuildOptions build;
+    const Scene scene = build_scene(load_scene_text(R"(PerspectiveCamera {
+    center 0 0.1 0 direction 0 -0.5 -1 up 0 1 0 angle 60 width 80 height 60 }
+Background { color 0.2 0.3 0.8 }
+Materials { numMaterials 1 Material { diffuseColor 0.7 0.7 0.7 } }
+Group { numObjects 1 MaterialIndex 0 TriangleMesh { obj_file floor.obj } }
+)", "floor.txt", load), build);
+    RenderOptions options;
+    options.mode = RenderMode::Depth;
+    options.depth_near = 0;  // a fixed range: the reference's doubt stays with its pixels
+    options.depth_far = 2;
+    std::vector<uint8_t> uncertain;
+    const Image expected = reference_render(ReferenceScene(scene), options, &uncertain);
+    int marked = 0;
+    for (uint8_t flag : uncertain) marked += flag;
+    for (const PacketIsa isa : kAllIsas) {
+        if (!packet_isa_available(isa)) continue;
+        SCOPED_TRACE(packet_isa_name(isa));
+        options.packet_isa = isa;
+        const Image image = render_image(scene, options);
+        int differ = 0, unmarked = 0;
+        for (size_t i = 0; i < image.pixels.size(); ++i) {
+            const bool same = std::memcmp(&image.pixels[i], &expected.pixels[i], sizeof(Vec3f)) == 0;
+            differ += same ? 0 : 1;
+            unmarked += !same && !uncertain[i] ? 1 : 0;
+        }
+        EXPECT_GT(differ, 0);  // the floor's moved hits show, so the marks are needed
+        EXPECT_EQ(unmarked, 0) << "of " << differ << " differing pixels";
+    }
+    // Not every pixel: the floor's far part, and the sky, are certain.
+    EXPECT_GT(marked, 0);
+    EXPECT_LT(marked, static_cast<int>(uncertain.size()) / 2);
+    std::printf("%d of %zu pixels marked uncertain\n", marked, uncertain.size());
 }
 
 }  // namespace
