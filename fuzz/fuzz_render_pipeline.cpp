@@ -90,32 +90,22 @@ void check_against_reference(const Scene& scene, const RenderOptions& options, c
     // Where the reference is uncertain (a hit moved up to its BVH leaf's floor), every path must
     // still agree with the single-ray one.
     Image single_ray;
-    auto doubt = [&](int x, int y) {
-        return uncertain[static_cast<size_t>(y + y0) * kWidth + static_cast<size_t>(x + x0)] != 0;
-    };
     for (int y = 0; y < image.height; ++y)
         for (int x = 0; x < image.width; ++x) {
-            if (!doubt(x, y)) {
-                if (!same_pixel(image.at(x, y), expected.at(x + x0, y + y0)))
-                    finding("the render differs from the brute-force reference",
-                            string_printf("%s, mode %s, pixel (%d, %d) from the bottom of the frame: ",
-                                          packet_isa_name(options.packet_isa), render_mode_name(options.mode),
-                                          x + x0, y + y0) +
-                                pixel_text(image.at(x, y)) + " vs " + pixel_text(expected.at(x + x0, y + y0)),
-                            random);
-                continue;
-            }
-            if (single_ray.pixels.empty()) {
+            const bool doubt = uncertain[static_cast<size_t>(y + y0) * kWidth + static_cast<size_t>(x + x0)] != 0;
+            if (doubt && single_ray.pixels.empty()) {
                 RenderOptions single = options;
                 single.packet_isa = PacketIsa::None;
                 single_ray = render_image(scene, single);
             }
-            if (!same_pixel(image.at(x, y), single_ray.at(x, y)))
-                finding("where the reference is uncertain, the render differs from the single-ray render",
+            const Vec3f wanted = doubt ? single_ray.at(x, y) : expected.at(x + x0, y + y0);
+            if (!same_pixel(image.at(x, y), wanted))
+                finding(doubt ? "where the reference is uncertain, the render differs from the single-ray render"
+                              : "the render differs from the brute-force reference",
                         string_printf("%s, mode %s, pixel (%d, %d) from the bottom of the frame: ",
                                       packet_isa_name(options.packet_isa), render_mode_name(options.mode), x + x0,
                                       y + y0) +
-                            pixel_text(image.at(x, y)) + " vs " + pixel_text(single_ray.at(x, y)),
+                            pixel_text(image.at(x, y)) + " vs " + pixel_text(wanted),
                         random);
         }
 }
