@@ -51,6 +51,11 @@ void FileWatcher::wait(int milliseconds) {
     // the next drop starts a new one, with two seconds of its own.
     if (!asked_since_wait_) dropping_since_.reset();
     asked_since_wait_ = false;
+    // Likewise a look that found no unheard change (the file came back as it was) ends the wait
+    // for an event.
+    if (!heard_asked_) unheard_since_.reset();
+    heard_asked_ = false;
+    heard_ = false;
     if (fd_ < 0) {
         std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds));
         return;
@@ -59,12 +64,13 @@ void FileWatcher::wait(int milliseconds) {
         settled_ = true;  // nothing written for a while
         return;
     }
+    heard_ = pending_;
     pending_ = false;
     settled_ = false;
     const Clock::time_point limit = Clock::now() + std::chrono::milliseconds(kSettleLimitMilliseconds);
     last_change_ = Clock::now();
     for (;;) {
-        read_events();
+        if (read_events()) heard_ = true;
         const Clock::time_point now = Clock::now();
         if (now >= limit) {
             // Not waited for any more. A name created without a writer (a link) never closes,
@@ -97,6 +103,18 @@ bool FileWatcher::changed_since_wait() {
     }
     dropping_since_.reset();  // what was read is shown
     return false;
+}
+
+bool FileWatcher::heard_of_change() {
+    if (fd_ < 0) return true;
+    heard_asked_ = true;
+    const Clock::time_point now = Clock::now();
+    if (!heard_) {
+        if (!unheard_since_) unheard_since_ = now;
+        if (now - *unheard_since_ < std::chrono::milliseconds(kSettleLimitMilliseconds)) return false;
+    }
+    unheard_since_.reset();
+    return true;
 }
 
 // Reads the pending events, keeping in writing_ the watched files that are being written and in
@@ -140,6 +158,7 @@ FileWatcher::~FileWatcher() = default;
 void FileWatcher::watch(const std::vector<std::string>&) {}
 void FileWatcher::wait(int milliseconds) { std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds)); }
 bool FileWatcher::changed_since_wait() { return false; }
+bool FileWatcher::heard_of_change() { return true; }
 bool FileWatcher::read_events() { return false; }
 
 #endif

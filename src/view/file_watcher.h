@@ -5,9 +5,11 @@
 // A save is seldom one step: an editor truncates the file, writes it in one or more pieces and
 // closes it, and a writer that loses the processor in between leaves the file empty or half
 // written for as long as it waits. Read then, the scene would flash an error and count a version
-// of its own. So the watcher waits for writers to finish before it says "look" (wait()), and
-// says whether a save began while a load read the files (changed_since_wait()), so that such a
-// load is dropped rather than shown.
+// of its own. So the watcher waits for writers to finish before it says "look" (wait()), says
+// whether a save began while a load read the files (changed_since_wait()), so that such a load
+// is dropped rather than shown, and says whether it has heard of the change a look found
+// (heard_of_change()): the kernel changes a file a moment before it queues the event, and a look
+// in that moment finds an emptied file with no event yet to say that a writer is at work.
 #pragma once
 
 #include <chrono>
@@ -48,13 +50,23 @@ public:
     void wait(int milliseconds);
 
     /// Whether a watched file has changed since wait() returned, so that what was read from the
-    /// files since then may be half written. Every change that a read could have seen is counted:
-    /// the kernel queues a file's event before the call that changed it returns. False, so that
+    /// files since then may be half written. A change is counted once its event is queued, which
+    /// the kernel does just before the call that made it returns (so a save whose first call has
+    /// not yet returned may go uncounted: heard_of_change() covers the look before it). False, so that
     /// what was read is shown all the same, after a wait() that ended at
     /// kSettleLimitMilliseconds (a writer that keeps its file open), and once it has said true
     /// for kSettleLimitMilliseconds on end (a writer that saves again and again, faster than a
     /// load): a writer that never stops still gets its files shown, every two seconds or so.
     bool changed_since_wait();
+
+    /// Whether the change that a look after wait() found in the files (their times or sizes) may
+    /// be loaded now. True when that wait() read an event about a watched file. Otherwise the
+    /// change may be a save caught between its truncation and the truncation's event (the
+    /// kernel empties the file first, then queues the event): loaded now, the empty file would
+    /// be shown as a version of its own, with an error. So an unheard change waits for its event,
+    /// for kSettleLimitMilliseconds at most (then it is loaded: a file system that sends no
+    /// events, a folder that could not be watched). Always true without inotify.
+    bool heard_of_change();
 
 private:
     using Clock = std::chrono::steady_clock;
@@ -71,6 +83,9 @@ private:
     Clock::time_point last_change_;  // the latest event about a watched file
     std::optional<Clock::time_point> dropping_since_;  // changed_since_wait() has said true since
     bool asked_since_wait_ = false;  // changed_since_wait() was called after the last wait()
+    bool heard_ = false;  // the last wait() read an event about a watched file
+    std::optional<Clock::time_point> unheard_since_;  // heard_of_change() has said false since
+    bool heard_asked_ = false;  // heard_of_change() was called after the last wait()
 };
 
 }  // namespace raycast

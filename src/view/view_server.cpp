@@ -288,11 +288,11 @@ void run_view_server(ViewSession& session, FileWatcher& files, const ViewServerO
     std::thread watcher([&] {
         // Every 200 ms the files are looked at anyway (see FileWatcher). A load that a save began
         // during is dropped: the next wait lets the writer finish, and the load after it shows the
-        // save.
+        // save. A change found with no event heard waits for its event (a save just begun).
         while (running.load()) {
             files.watch(session.watched_files());
             files.wait(200);
-            session.reload_if_changed([&] { return files.changed_since_wait(); });
+            session.reload_if_changed([&] { return files.changed_since_wait(); }, [&] { return files.heard_of_change(); });
         }
     });
     std::thread stopper([&] {

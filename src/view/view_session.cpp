@@ -233,20 +233,26 @@ std::vector<Diagnostic> ViewSession::diagnostics() const {
     return all;
 }
 
-bool ViewSession::reload_if_changed(const std::function<bool()>& changed_during_load) {
+bool ViewSession::reload_if_changed(const std::function<bool()>& changed_during_load,
+                                    const std::function<bool()>& change_heard) {
     // The files as they are before this load reads them: a file written again while the load
     // reads it must not be recorded as loaded (a mesh saved twice 30 ms apart left the viewer
     // showing the first version, with no error).
     std::vector<FileStamp> before{stamp(settings_.scene_path)};
+    bool first = false;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        bool changed = loaded_.version == 0;
+        first = loaded_.version == 0;
+        bool changed = first;
         for (const FileStamp& old : stamps_) {
             before.push_back(stamp(old.path));
             changed |= !(before.back() == old);
         }
         if (!changed) return false;
     }
+    // A change the watcher has not heard of may be a save whose writer has emptied the file and
+    // not yet queued the event: read now, the empty file was shown as a version of its own.
+    if (!first && change_heard && !change_heard()) return false;
     // Load and build outside the lock: requests go on with the last scene meanwhile.
     std::shared_ptr<SceneDesc> desc;
     std::shared_ptr<const Scene> scene;
