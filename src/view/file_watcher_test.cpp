@@ -5,8 +5,8 @@
 #include "view/file_watcher.h"
 
 #include <gtest/gtest.h>
-#include <stdlib.h>
 #include <fcntl.h>
+#include <stdlib.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
