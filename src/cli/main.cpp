@@ -389,7 +389,7 @@ int run_view(const CliOptions& options) {
     // loop has started) is seen, and that load dropped as the loop's are.
     FileWatcher files;
     files.watch({settings.scene_path});
-    session.reload_if_changed([&] { return files.changed_since_wait(); });
+    session.reload_if_changed([&](bool files_changed) { return files.changed_since_wait(files_changed); });
     if (!options.quiet) {
         for (const std::string& note : options.notes) std::fprintf(stderr, "raycast: note: %s\n", note.c_str());
         print_diagnostics(session.diagnostics());

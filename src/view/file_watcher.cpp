@@ -92,12 +92,14 @@ void FileWatcher::wait(int milliseconds) {
     }
 }
 
-bool FileWatcher::changed_since_wait() {
+bool FileWatcher::changed_since_wait(bool files_changed) {
     if (fd_ < 0) return false;
     asked_since_wait_ = true;
     if (read_events()) pending_ = true;
     const Clock::time_point now = Clock::now();
-    if (pending_ && settled_) {
+    // A change found by its time or size alone does not make the next wait() skip its look: its
+    // event is still to come, and that wait() waits for it.
+    if ((pending_ || files_changed) && settled_) {
         if (!dropping_since_) dropping_since_ = now;
         if (now - *dropping_since_ < std::chrono::milliseconds(kSettleLimitMilliseconds)) return true;
     }
@@ -157,7 +159,7 @@ FileWatcher::FileWatcher() : fd_(-1) {}
 FileWatcher::~FileWatcher() = default;
 void FileWatcher::watch(const std::vector<std::string>&) {}
 void FileWatcher::wait(int milliseconds) { std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds)); }
-bool FileWatcher::changed_since_wait() { return false; }
+bool FileWatcher::changed_since_wait(bool) { return false; }
 bool FileWatcher::heard_of_change() { return true; }
 bool FileWatcher::read_events() { return false; }
 

@@ -51,13 +51,15 @@ public:
 
     /// Whether a watched file has changed since wait() returned, so that what was read from the
     /// files since then may be half written. A change is counted once its event is queued, which
-    /// the kernel does just before the call that made it returns (so a save whose first call has
-    /// not yet returned may go uncounted: heard_of_change() covers the look before it). False, so that
-    /// what was read is shown all the same, after a wait() that ended at
-    /// kSettleLimitMilliseconds (a writer that keeps its file open), and once it has said true
-    /// for kSettleLimitMilliseconds on end (a writer that saves again and again, faster than a
-    /// load): a writer that never stops still gets its files shown, every two seconds or so.
-    bool changed_since_wait();
+    /// the kernel does a moment after the file changed, just before the call that changed it
+    /// returns; so the caller says whether it found a file's time or size changed since before
+    /// its read (`files_changed`), which counts a save whose first call has not yet returned
+    /// (heard_of_change() covers the look before the read). False, so that what was read is shown
+    /// all the same, after a wait() that ended at kSettleLimitMilliseconds (a writer that keeps
+    /// its file open), and once it has said true for kSettleLimitMilliseconds on end (a writer
+    /// that saves again and again, faster than a load): a writer that never stops still gets its
+    /// files shown, every two seconds or so. Always false without inotify.
+    bool changed_since_wait(bool files_changed = false);
 
     /// Whether the change that a look after wait() found in the files (their times or sizes) may
     /// be loaded now. True when that wait() read an event about a watched file. Otherwise the

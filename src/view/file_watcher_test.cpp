@@ -199,6 +199,22 @@ TEST_F(FileWatcherTest, AChangeWithNoEventIsLoadedAfterTheLimit) {
     EXPECT_FALSE(files_.heard_of_change()) << "the next unheard change does not wait for its event";
 }
 
+// A load that found a file's time or size changed since before its read, with no event (a save
+// whose truncation is not yet announced), is dropped like one during which an event came; the
+// next wait() still looks first (no event is pending), and such drops stop after two seconds too.
+TEST_F(FileWatcherTest, AFileFoundChangedByItsStampAloneDropsTheLoad) {
+    EXPECT_TRUE(files_.changed_since_wait(true));
+    EXPECT_FALSE(files_.changed_since_wait(false)) << "nothing changed: the load is shown";
+    EXPECT_TRUE(files_.changed_since_wait(true));
+    const auto start = std::chrono::steady_clock::now();
+    files_.wait(100);
+    EXPECT_GE(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(100))
+        << "no event is pending: the wait must look for the save's event, not return at once";
+    EXPECT_FALSE(files_.heard_of_change());
+    std::this_thread::sleep_for(std::chrono::milliseconds(FileWatcher::kSettleLimitMilliseconds + 100));
+    EXPECT_FALSE(files_.changed_since_wait(true)) << "a load was dropped for more than two seconds";
+}
+
 // Waiting for an event ends when a look finds nothing to load (the file came back as it was): a
 // later unheard change waits for its own event (else it could be read emptied).
 TEST_F(FileWatcherTest, ALookThatLoadsNothingEndsTheWaitForAnEvent) {

@@ -292,7 +292,8 @@ void run_view_server(ViewSession& session, FileWatcher& files, const ViewServerO
         while (running.load()) {
             files.watch(session.watched_files());
             files.wait(200);
-            session.reload_if_changed([&] { return files.changed_since_wait(); }, [&] { return files.heard_of_change(); });
+            session.reload_if_changed([&](bool files_changed) { return files.changed_since_wait(files_changed); },
+                                      [&] { return files.heard_of_change(); });
         }
     });
     std::thread stopper([&] {

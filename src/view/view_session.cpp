@@ -233,7 +233,7 @@ std::vector<Diagnostic> ViewSession::diagnostics() const {
     return all;
 }
 
-bool ViewSession::reload_if_changed(const std::function<bool()>& changed_during_load,
+bool ViewSession::reload_if_changed(const std::function<bool(bool)>& changed_during_load,
                                     const std::function<bool()>& change_heard) {
     // The files as they are before this load reads them: a file written again while the load
     // reads it must not be recorded as loaded (a mesh saved twice 30 ms apart left the viewer
@@ -258,10 +258,16 @@ bool ViewSession::reload_if_changed(const std::function<bool()>& changed_during_
     std::shared_ptr<const Scene> scene;
     std::vector<Diagnostic> errors;
     std::vector<FileStamp> stamps;
-    // Asked once the files are read (every change the reading could have seen is counted by
-    // then), before the scene is built: a save that began meanwhile drops the load unbuilt. A
+    // Asked once the files are read, before the scene is built: a save that began meanwhile
+    // drops the load unbuilt. A save's event is queued a moment after the file changed, so one
+    // whose first call has not yet returned is found by the files' times and sizes instead. A
     // save during the build changes nothing read: the stamps below have the next look load it.
-    const auto save_began = [&] { return changed_during_load && changed_during_load(); };
+    const auto save_began = [&] {
+        if (!changed_during_load) return false;
+        bool files_changed = false;
+        for (const FileStamp& earlier : before) files_changed |= !(stamp(earlier.path) == earlier);
+        return changed_during_load(files_changed);
+    };
     try {
         desc = std::make_shared<SceneDesc>(load_scene_file(settings_.scene_path, settings_.load));
         if (save_began()) return false;

@@ -60,12 +60,13 @@ public:
     /// Loads the scene when a file it was read from has changed since the last load (or when it
     /// has never been loaded). Returns whether it loaded one: a new version, good or bad.
     /// `changed_during_load`, when given, is asked after the files were read and before the load
-    /// is shown: if it says a file changed meanwhile (a save begun: the load may have read it
-    /// empty or half written), the load is dropped, nothing changes and false is returned; the
-    /// next call loads again. `change_heard`, when given, is asked when a file has changed since
-    /// a load: if it says no (the change may be a save caught before its writer's first event),
-    /// nothing is loaded yet and false is returned. Thread-safe.
-    bool reload_if_changed(const std::function<bool()>& changed_during_load = nullptr,
+    /// is shown, with whether a file's time or size is no longer what it was before the read: if
+    /// it says a file changed meanwhile (a save begun: the load may have read it empty or half
+    /// written), the load is dropped, nothing changes and false is returned; the next call loads
+    /// again. `change_heard`, when given, is asked when a file has changed since a load: if it
+    /// says no (the change may be a save caught before its writer's first event), nothing is
+    /// loaded yet and false is returned. Thread-safe.
+    bool reload_if_changed(const std::function<bool(bool files_changed)>& changed_during_load = nullptr,
                            const std::function<bool()>& change_heard = nullptr);
 
     /// GET /status.
