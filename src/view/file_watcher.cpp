@@ -47,14 +47,11 @@ void FileWatcher::watch(const std::vector<std::string>& files) {
 }
 
 void FileWatcher::wait(int milliseconds) {
-    // A look that asked nothing (the session found nothing to load) ends a run of dropped loads:
-    // the next drop starts a new one, with two seconds of its own.
-    if (!asked_since_wait_) dropping_since_.reset();
-    asked_since_wait_ = false;
-    // Likewise a look that found no unheard change (the file came back as it was) ends the wait
-    // for an event.
-    if (!heard_asked_) unheard_since_.reset();
-    heard_asked_ = false;
+    // A look that asked nothing (the session found nothing to load, the file came back as it
+    // was) ends a run of dropped loads and a wait for an event: the next starts with two seconds
+    // of its own.
+    dropping_.new_look();
+    waiting_for_event_.new_look();
     heard_ = false;
     if (fd_ < 0) {
         std::this_thread::sleep_for(std::chrono::milliseconds(milliseconds));
@@ -92,31 +89,33 @@ void FileWatcher::wait(int milliseconds) {
     }
 }
 
+bool FileWatcher::LimitedRun::hold(bool wanted) {
+    asked = true;
+    if (wanted) {
+        const Clock::time_point now = Clock::now();
+        if (!since) since = now;
+        if (now - *since < std::chrono::milliseconds(kSettleLimitMilliseconds)) return true;
+    }
+    since.reset();
+    return false;
+}
+
+void FileWatcher::LimitedRun::new_look() {
+    if (!asked) since.reset();
+    asked = false;
+}
+
 bool FileWatcher::changed_since_wait(bool files_changed) {
     if (fd_ < 0) return false;
-    asked_since_wait_ = true;
     if (read_events()) pending_ = true;
-    const Clock::time_point now = Clock::now();
     // A change found by its time or size alone does not make the next wait() skip its look: its
     // event is still to come, and that wait() waits for it.
-    if ((pending_ || files_changed) && settled_) {
-        if (!dropping_since_) dropping_since_ = now;
-        if (now - *dropping_since_ < std::chrono::milliseconds(kSettleLimitMilliseconds)) return true;
-    }
-    dropping_since_.reset();  // what was read is shown
-    return false;
+    return dropping_.hold((pending_ || files_changed) && settled_);  // false: what was read is shown
 }
 
 bool FileWatcher::heard_of_change() {
     if (fd_ < 0) return true;
-    heard_asked_ = true;
-    const Clock::time_point now = Clock::now();
-    if (!heard_) {
-        if (!unheard_since_) unheard_since_ = now;
-        if (now - *unheard_since_ < std::chrono::milliseconds(kSettleLimitMilliseconds)) return false;
-    }
-    unheard_since_.reset();
-    return true;
+    return !waiting_for_event_.hold(!heard_);
 }
 
 // Reads the pending events, keeping in writing_ the watched files that are being written and in

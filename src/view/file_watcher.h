@@ -76,6 +76,17 @@ private:
 
     bool read_events();
 
+    // A run of looks held back (a load dropped, a change waiting for its event), at most
+    // kSettleLimitMilliseconds long. A look that does not ask ends the run.
+    struct LimitedRun {
+        std::optional<Clock::time_point> since;  // held back since
+        bool asked = false;                      // hold() was called after the last wait()
+        /// Whether to hold this look back: `wanted`, and the run not yet at its limit.
+        bool hold(bool wanted);
+        /// Called by wait(): a look that did not ask ends the run.
+        void new_look();
+    };
+
     int fd_;
     std::vector<std::pair<std::string, int>> folders_;  // each watched folder and its watch (-1: failed)
     std::vector<WatchedName> names_;                    // the watched files
@@ -83,11 +94,9 @@ private:
     bool pending_ = false;  // changed_since_wait() saw a change that wait() has not waited for
     bool settled_ = true;   // the last wait() ended with the writers done (not at its limit)
     Clock::time_point last_change_;  // the latest event about a watched file
-    std::optional<Clock::time_point> dropping_since_;  // changed_since_wait() has said true since
-    bool asked_since_wait_ = false;  // changed_since_wait() was called after the last wait()
-    bool heard_ = false;  // the last wait() read an event about a watched file
-    std::optional<Clock::time_point> unheard_since_;  // heard_of_change() has said false since
-    bool heard_asked_ = false;  // heard_of_change() was called after the last wait()
+    LimitedRun dropping_;           // changed_since_wait()'s run of true
+    LimitedRun waiting_for_event_;  // heard_of_change()'s run of false
+    bool heard_ = false;            // the last wait() read an event about a watched file
 };
 
 }  // namespace raycast
