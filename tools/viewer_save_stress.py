@@ -8,7 +8,7 @@ this script at the lowest priority (nice 19, so that its saves lose the processo
 saves the file SAVES times, as Python's open(path, "w") does (truncate, write, close), each time
 waiting until /status shows the next version (30 s at most) and then 250 ms more. A save that is
 read while the file is still empty shows as two versions. Prints each save that is not one version
-(two, or none) and a count; exits 1 if there was one. Takes about 150 s for 250 saves on two cores.
+(two, or none) and a count; exits 1 if there was one. Took 135 s for 250 saves on the two-core Intel Xeon.
 
 Before bb207f7 the viewer loaded a change it found before the kernel had queued its event: 58
 double versions in 250 saves on the two-core Intel Xeon; none after. That is the race behind the
