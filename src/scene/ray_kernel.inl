@@ -60,8 +60,14 @@ inline BoxTraversal make_box_traversal(const Ray& ray, float t_min) {
     b.t_min = splat_node(t_min + 0.0f);  // -0 becomes +0, for hit_children's integer order
     const uint32_t lower[3] = {offsetof(WideBvhNode, bounds[0][0]), offsetof(WideBvhNode, bounds[1][0]),
                                offsetof(WideBvhNode, bounds[2][0])};
-    for (uint32_t axis = 0; axis < 3; ++axis)
-        b.near_offset[axis] = inverse[axis] < 0 ? lower[axis] ^ kFarFromNear[axis] : lower[axis];
+    // Where inverse[axis] < 0, found from the direction itself, so that the node test's loads
+    // need not wait for the division: a component's inverse is negative where its sign bit is set
+    // (safe_divisor keeps the sign, -0 included), but for NaN and -inf (whose inverse is -0).
+    const float d[3] = {ray.direction.x, ray.direction.y, ray.direction.z};
+    for (uint32_t axis = 0; axis < 3; ++axis) {
+        const bool down = __builtin_signbit(d[axis]) && d[axis] > -INFINITY;
+        b.near_offset[axis] = down ? lower[axis] ^ kFarFromNear[axis] : lower[axis];
+    }
     return b;
 }
 
