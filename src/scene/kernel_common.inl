@@ -17,6 +17,11 @@ inline float safe_divisor(float d) {
     return scalar_abs(d) < kTiny ? (__builtin_signbit(d) ? -kTiny : kTiny) : d;
 }
 
+// Whether 1 / safe_divisor(d) < 0, read off d without the division, so that a box test's choice
+// of near bounds need not wait for it: the sign bit (safe_divisor keeps the sign, -0 included),
+// but for NaN and -inf, whose inverses (NaN and -0) are not below 0.
+inline bool inverse_is_negative(float d) { return __builtin_signbit(d) && d > -__builtin_inff(); }
+
 // How a slab test stays conservative (never misses a box the ray meets): a computed distance
 // fl(fl(b - o)·fl(1/d)) is within three roundings of the true (b - o)/d, a relative error below
 // 2^-22. With a negative t_min, the entry and exit are widened by more than that (|x|·kBoxWiden,

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bvh/bvh.h"
 #include "geometry/triangle.h"
 #include "geometry/triangle_groups.h"
 #include "scene/build_scene.h"
@@ -116,6 +117,25 @@ TEST(MeshKernel, TheWatertightAxesAreTheScalarTestsForEverySpecialDirection) {
                 ++checked;
             }
     EXPECT_EQ(checked, 14 * 14 * 14);
+}
+
+// The single-ray kernel picks each axis's near bound from the sign of the direction's component
+// instead of its inverse's (the division would hold up the first node's loads). Every special
+// float is checked against the inverse that the box tests use (bvh.h's safe_inverse): -0 and
+// tiny negatives have negative inverses, -inf's is -0 and a NaN's is NaN, neither below 0.
+TEST(MeshKernel, TheNearBoundsSideIsTheInverseDirectionsSignForEverySpecialComponent) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float values[] = {0.0f, -0.0f, 1.0f, -1.0f, 1e-31f, -1e-31f, 1e-40f, -1e-40f,
+                            std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
+                            INFINITY, -INFINITY, nan, -nan};
+    int negative = 0;
+    for (float d : values) {
+        const bool expected = safe_inverse(d) < 0;
+        EXPECT_EQ(kernel_common::inverse_is_negative(d), expected) << "component " << d << ", sign bit "
+                                                                   << std::signbit(d);
+        negative += expected ? 1 : 0;
+    }
+    EXPECT_EQ(negative, 5);  // -0, -1, -1e-31, -1e-40 and -max: not -inf, not -NaN
 }
 
 TEST(TriangleGroups, EveryKernelTestsAGroupBitForBitAsTheScalarTest) {
