@@ -10,6 +10,7 @@
 #include "geometry/triangle.h"
 #include "bvh/wide_bvh.h"
 #include "geometry/triangle_groups.h"
+#include "scene/intersect_packet.h"
 
 namespace raycast {
 
@@ -137,6 +138,7 @@ public:
         if (desc_.root) add_object(*desc_.root, Mat4::identity(), false);
         if (!errors_.empty()) fail(std::move(errors_));
         build_instance_bvh();
+        find_sole_mesh();
         return std::move(scene_);
     }
 
@@ -394,6 +396,20 @@ private:
                 build_mesh_shape(std::move(desc_.meshes[static_cast<size_t>(mesh_index)].mesh), options_.threads));
         }
         return static_cast<uint32_t>(shape);
+    }
+
+    // A scene of one world-space mesh and nothing else (SoleMesh). Its queries then do what the
+    // two-level walk would: the instance BVH is one leaf (whose box it does not test), and no
+    // plane waits outside it.
+    void find_sole_mesh() {
+        const Bvh& bvh = scene_.instance_bvh;
+        if (!scene_.plane_instances.empty() || bvh.nodes.size() != 1 || bvh.nodes[0].count != 1) return;
+        const uint32_t id = bvh.prim_order[bvh.nodes[0].first];
+        const Instance& instance = scene_.instances[id];
+        if (instance.kind != ShapeKind::Mesh || instance.transform != kNoTransform) return;
+        if (scene_.meshes[instance.shape].bvh.empty()) return;
+        const MeshRayKernel& kernel = mesh_ray_kernel(best_packet_isa());
+        scene_.sole_mesh = {kernel.intersect, kernel.occluded, id, instance.shape};
     }
 
     void build_instance_bvh() {

@@ -321,6 +321,69 @@ TEST(BuildSceneTest, ABallIsTestedBeforeTheMeshInsideItWhateverTheFileOrder) {
     EXPECT_GT(mesh_only_counters.nodes_visited, mesh_first_counters.nodes_visited);
 }
 
+// A scene of one mesh in world space sends its single rays straight to the mesh's kernel
+// (SoleMesh): every hit, count and any-hit answer must be the two-level walk's, and any other
+// scene must take the walk.
+TEST(BuildSceneTest, AWorldSpaceMeshAloneIsTracedStraightThroughItsKernelWithTheWalksAnswers) {
+    TriangleMesh ball = sphere_mesh({0, 0, 0}, 1, 12, 16);  // closed: it has cones
+    for (Vec3f& p : ball.positions) p = p * (1 + 0.2f * std::sin(5 * p.x) * std::cos(3 * p.y));
+    SceneDesc desc = scene_with(mesh_object(0));
+    desc.meshes.push_back({"ball.obj", ball});
+    const Scene scene = build_scene(std::move(desc), {});
+    ASSERT_NE(scene.sole_mesh.intersect, nullptr);
+    ASSERT_NE(scene.sole_mesh.occluded, nullptr);
+    ASSERT_FALSE(scene.meshes[0].cones.empty());
+    EXPECT_EQ(scene.sole_mesh.instance, 0u);
+    EXPECT_EQ(scene.sole_mesh.shape, 0u);
+
+    const uint8_t skip[] = {1}, test_every_face[] = {0};
+    int hits = 0, blocked = 0, skipped_through = 0;
+    for (const Vec3f origin : {Vec3f{0.3f, 0.2f, 4}, Vec3f{-3, 1, 0.5f}, Vec3f{0.1f, 0, 0}})
+        for (int i = 0; i < 400; ++i) {
+            const float a = 0.0157f * static_cast<float>(i), b = 0.0311f * static_cast<float>(i);
+            const Ray ray{origin, Vec3f{std::cos(a) * std::sin(b), std::sin(a) * std::sin(b), std::cos(b)} - origin * 0.2f};
+            Hit straight, walked;
+            TraceCounters straight_counts, walked_counts;
+            intersect(scene, ray, 0, straight, &straight_counts);
+            intersect_two_level(scene, ray, 0, walked, &walked_counts);
+            EXPECT_TRUE(straight.t == walked.t && straight.u == walked.u && straight.v == walked.v &&
+                        straight.object == walked.object && straight.prim == walked.prim &&
+                        straight.leaf == walked.leaf && straight.lane == walked.lane)
+                << "ray " << i << " from (" << origin.x << ", " << origin.y << ", " << origin.z << ")";
+            EXPECT_EQ(straight_counts.nodes_visited, walked_counts.nodes_visited) << "ray " << i;
+            hits += straight.is_hit() ? 1 : 0;
+            for (const float t_max : {0.5f, 3.0f, INFINITY})
+                for (const uint8_t* skipping : {static_cast<const uint8_t*>(nullptr), skip, test_every_face}) {
+                    const bool answer = occluded(scene, ray, 1e-3f, t_max, skipping);
+                    EXPECT_EQ(answer, occluded_two_level(scene, ray, 1e-3f, t_max, skipping)) << "ray " << i;
+                    blocked += answer ? 1 : 0;
+                    if (skipping == skip && !answer && occluded(scene, ray, 1e-3f, t_max)) ++skipped_through;
+                }
+        }
+    // The rays both hit and missed, were blocked and not, and skipping back faces let some through.
+    EXPECT_GT(hits, 100);
+    EXPECT_LT(hits, 1200);
+    EXPECT_GT(blocked, 100);
+    EXPECT_GT(skipped_through, 0);
+
+    // Every other scene takes the two-level walk.
+    auto sole = [](ObjectDesc root) {
+        SceneDesc other = scene_with(std::move(root));
+        other.meshes.push_back({"cube.obj", cube_mesh()});
+        return build_scene(std::move(other), {}).sole_mesh.intersect != nullptr;
+    };
+    EXPECT_TRUE(sole(mesh_object(0)));
+    EXPECT_TRUE(sole(group({mesh_object(0)})));
+    EXPECT_FALSE(sole(group({mesh_object(0), plane({0, 1, 0}, -5)})));
+    EXPECT_FALSE(sole(group({mesh_object(0), sphere({3, 0, 0}, 1)})));
+    EXPECT_FALSE(sole(group({mesh_object(0), mesh_object(0)})));
+    EXPECT_FALSE(sole(transform(Mat4::translate({1, 0, 0}), mesh_object(0))));
+    EXPECT_FALSE(sole(sphere({0, 0, 0}, 1)));
+    SceneDesc empty_mesh = scene_with(mesh_object(0));
+    empty_mesh.meshes.push_back({"empty.obj", TriangleMesh{}});
+    EXPECT_EQ(build_scene(std::move(empty_mesh), {}).sole_mesh.intersect, nullptr);
+}
+
 const char* const kSingularMessage =
     "this transform cannot be inverted (it squashes space flat): check for a zero scale, or scales whose product is 0 "
     "in float";

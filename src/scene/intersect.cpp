@@ -53,13 +53,11 @@ struct Query {
     // Returns true when an any-hit query has its answer.
     bool mesh(const MeshShape& shape, const Ray& ray, uint32_t object) {
         if (shape.bvh.empty()) return false;
-        MeshView view{shape.bvh.nodes.data(), shape.groups.data()};
         const MeshRayKernel& kernel = best_mesh_ray_kernel();
-        if (kAnyHit) {
-            if (skip_back_faces && skip_back_faces[object] && !shape.cones.empty()) view.cones = shape.cones.data();
-            return kernel.occluded(view, ray, t_min, t_max);
-        }
-        kernel.intersect(view, ray, t_min, object, best, counters ? &counters->nodes_visited : nullptr);
+        if (kAnyHit)
+            return kernel.occluded(single_ray_view(shape, skip_back_faces && skip_back_faces[object]), ray, t_min, t_max);
+        kernel.intersect(single_ray_view(shape, false), ray, t_min, object, best,
+                         counters ? &counters->nodes_visited : nullptr);
         return false;
     }
 
@@ -147,12 +145,12 @@ struct Query {
 
 }  // namespace
 
-void intersect(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceCounters* counters) {
+void intersect_two_level(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceCounters* counters) {
     Query<false>{scene, t_min, INFINITY, hit, counters}.run(ray);
     RAYCAST_DCHECK(!hit.is_hit() || hit.t > t_min);
 }
 
-bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max, const uint8_t* skip_back_faces) {
+bool occluded_two_level(const Scene& scene, const Ray& ray, float t_min, float t_max, const uint8_t* skip_back_faces) {
     Hit unused;
     return Query<true>{scene, t_min, t_max, unused, nullptr, skip_back_faces}.run(ray);
 }

@@ -1,5 +1,6 @@
 // What the SIMD kernels see of a scene: plain structs of pointers (built once per render by
-// PacketTracer for the packet kernels, per query by intersect.cpp for the single-ray kernels).
+// PacketTracer for the packet kernels, per query for the single-ray kernels: MeshView, in
+// scene.h, by single_ray_view).
 // The kernels (packet_<isa>.cpp, ray_<isa>.cpp) are compiled with their own instruction-set
 // flags, so they must not use inline functions or templates from shared headers: a copy
 // compiled for AVX-512 could otherwise be linked in for everyone. They read these structs'
@@ -14,19 +15,6 @@
 #include "scene/scene.h"
 
 namespace raycast {
-
-/// A mesh as the kernels see it: its wide BVH, whose leaves' payloads are block indices of their
-/// first triangle group in `groups`.
-struct MeshView {
-    const WideBvhNode* nodes = nullptr;  ///< nullptr for a mesh with nothing to hit
-    const GroupBlock* groups = nullptr;
-    float leaf_size = 0;                 ///< MeshShape::leaf_size
-    float lower[3] = {}, upper[3] = {};  ///< the root's box (MeshShape::bounds)
-    /// MeshShape::cones, for any-hit queries that may skip the mesh's back faces: the packet
-    /// kernel reads it for the lanes it is told may; the single-ray kernel whenever it is set (the
-    /// caller sets it only then). Null: no cones, or no skipping.
-    const NodeCones* cones = nullptr;
-};
 
 /// A packet of rays from one origin is walked through a mesh as a frustum (one test for a node's
 /// children, for every ray) unless its rays lie farther apart where they reach the mesh's box

@@ -42,6 +42,27 @@ struct MeshShape {
     LargeVector<NodeCones> cones;
 };
 
+/// A mesh as the SIMD kernels see it (scene/packet_view.h): its wide BVH, whose leaves' payloads
+/// are block indices of their first triangle group in `groups`.
+struct MeshView {
+    const WideBvhNode* nodes = nullptr;  ///< nullptr for a mesh with nothing to hit
+    const GroupBlock* groups = nullptr;
+    float leaf_size = 0;                 ///< MeshShape::leaf_size
+    float lower[3] = {}, upper[3] = {};  ///< the root's box (MeshShape::bounds)
+    /// MeshShape::cones, for any-hit queries that may skip the mesh's back faces: the packet
+    /// kernel reads it for the lanes it is told may; the single-ray kernel whenever it is set (the
+    /// caller sets it only then). Null: no cones, or no skipping.
+    const NodeCones* cones = nullptr;
+};
+
+/// The view of a mesh that a single-ray kernel takes: with the mesh's cones when its back faces
+/// may be skipped (an any-hit query told so) and it has them.
+inline MeshView single_ray_view(const MeshShape& mesh, bool skipping_back_faces) {
+    MeshView view{mesh.bvh.nodes.data(), mesh.groups.data()};
+    if (skipping_back_faces && !mesh.cones.empty()) view.cones = mesh.cones.data();
+    return view;
+}
+
 struct TriangleShape {
     Vec3f p0, p1, p2;
 };
@@ -57,6 +78,18 @@ struct Instance {
     uint32_t shape = 0;     ///< index into the array of its kind
     uint32_t material = 0;  ///< index into Scene::materials
     uint32_t transform = kNoTransform;  ///< index into Scene::object_from_world
+};
+
+/// A scene of one object, a mesh in world space (no planes, nothing else). intersect() and
+/// occluded() send its single rays to the mesh's kernel from the caller's own code, inline,
+/// instead of through the call to the two-level walk: that call cost about 3% of the single rays
+/// of a 1k-triangle mesh (docs/performance.md). The functions are null for every other scene.
+struct SoleMesh {
+    void (*intersect)(const MeshView& mesh, const Ray& ray, float t_min, uint32_t object, Hit& best,
+                      uint64_t* nodes_visited) = nullptr;  ///< MeshRayKernel::intersect
+    bool (*occluded)(const MeshView& mesh, const Ray& ray, float t_min, float t_max) = nullptr;
+    uint32_t instance = 0;
+    uint32_t shape = 0;  ///< the instance's index in Scene::meshes
 };
 
 struct Scene {
@@ -81,6 +114,7 @@ struct Scene {
     Bounds3f bounds;  ///< of every bounded object in world space (planes are not); empty if none
     std::vector<uint32_t> plane_instances;  ///< planes are unbounded: tested outside the BVH
     Bvh instance_bvh;                       ///< over the bounded instances; prim ids are instance ids
+    SoleMesh sole_mesh;                     ///< set by build_scene where the scene is one mesh
 
     size_t triangle_count() const;
 };
@@ -90,14 +124,38 @@ struct TraceCounters {
     uint64_t nodes_visited = 0;
 };
 
+/// intersect() and occluded() for any scene: the planes, then the instance BVH (scene/intersect.cpp).
+void intersect_two_level(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceCounters* counters);
+bool occluded_two_level(const Scene& scene, const Ray& ray, float t_min, float t_max, const uint8_t* skip_back_faces);
+
+// The two queries below are inline for SoleMesh's sake. The SIMD kernels must not call them
+// (see scene/packet_view.h: a copy compiled for their instruction set could be linked in for
+// everyone).
+
 /// The closest hit with t > t_min, if any (hit.is_hit()); ties as is_closer() says.
-void intersect(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceCounters* counters = nullptr);
+inline void intersect(const Scene& scene, const Ray& ray, float t_min, Hit& hit, TraceCounters* counters = nullptr) {
+    const SoleMesh& sole = scene.sole_mesh;
+    if (sole.intersect) {
+        const MeshView view = single_ray_view(scene.meshes[sole.shape], false);
+        sole.intersect(view, ray, t_min, sole.instance, hit, counters ? &counters->nodes_visited : nullptr);
+        return;
+    }
+    intersect_two_level(scene, ray, t_min, hit, counters);
+}
 
 /// Whether anything lies on the ray with t_min < t < t_max (any hit, for shadow rays). Where
 /// skip_back_faces[instance] is 1, that instance's mesh is tested only for the triangles that do
 /// not all face away from the ray with their neighbours (scene/back_faces.h: the caller vouches
 /// that the ray starts and ends outside it).
-bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max, const uint8_t* skip_back_faces = nullptr);
+inline bool occluded(const Scene& scene, const Ray& ray, float t_min, float t_max,
+                     const uint8_t* skip_back_faces = nullptr) {
+    const SoleMesh& sole = scene.sole_mesh;
+    if (sole.occluded) {
+        const bool skipping = skip_back_faces && skip_back_faces[sole.instance];
+        return sole.occluded(single_ray_view(scene.meshes[sole.shape], skipping), ray, t_min, t_max);
+    }
+    return occluded_two_level(scene, ray, t_min, t_max, skip_back_faces);
+}
 
 /// What shading needs to know about a hit.
 struct SurfacePoint {
