@@ -408,7 +408,7 @@ private:
         const Instance& instance = scene_.instances[id];
         if (instance.kind != ShapeKind::Mesh || instance.transform != kNoTransform) return;
         if (scene_.meshes[instance.shape].bvh.empty()) return;
-        const MeshRayKernel& kernel = mesh_ray_kernel(best_packet_isa());
+        const MeshRayKernel& kernel = best_mesh_ray_kernel();
         scene_.sole_mesh = {kernel.intersect, kernel.occluded, id, instance.shape};
     }
 

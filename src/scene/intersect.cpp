@@ -10,12 +10,6 @@ namespace raycast {
 
 namespace {
 
-// The kernel of the widest instruction set this CPU runs, chosen once.
-const MeshRayKernel& best_mesh_ray_kernel() {
-    static const MeshRayKernel& kernel = mesh_ray_kernel(best_packet_isa());
-    return kernel;
-}
-
 // Offers a candidate hit; keeps it if it beats the current best.
 inline void offer(Hit& best, float t, float u, float v, uint32_t object, uint32_t prim, uint32_t leaf = 0) {
     if (is_closer(t, object, prim, best)) best = Hit{t, u, v, object, prim, leaf};

@@ -99,6 +99,11 @@ const MeshRayKernel& mesh_ray_kernel(PacketIsa isa) {
     return portable;
 }
 
+const MeshRayKernel& best_mesh_ray_kernel() {
+    static const MeshRayKernel& kernel = mesh_ray_kernel(best_packet_isa());
+    return kernel;
+}
+
 PacketIsa best_packet_isa() {
     for (PacketIsa isa : {PacketIsa::Avx512, PacketIsa::Avx2, PacketIsa::Sse2, PacketIsa::Portable})
         if (packet_isa_available(isa)) return isa;

@@ -36,8 +36,10 @@ PacketIsa best_packet_isa();
 int packet_isa_lanes(PacketIsa isa);
 /// The single-ray kernel for meshes of an available instruction set (AVX-512's is the AVX2 code
 /// with AVX-512VL's permutes, or the AVX2 one on a CPU without VL; None gives the portable one).
-/// intersect() and occluded() use best_packet_isa()'s.
+/// intersect() and occluded() use best_packet_isa()'s: best_mesh_ray_kernel().
 const MeshRayKernel& mesh_ray_kernel(PacketIsa isa);
+/// The single-ray kernel of the widest instruction set this CPU runs, chosen once.
+const MeshRayKernel& best_mesh_ray_kernel();
 
 /// surface_at's SurfacePoint for several hits, a lane each.
 struct SurfaceLanes {
