@@ -2,10 +2,13 @@
 
 #include <algorithm>
 
+#include "base/simd_clones.h"
+
 namespace raycast {
 
 static_assert(sizeof(Vec3f) == 3 * sizeof(float), "an array of Vec3f is flat float data");
 
+RAYCAST_SIMD_CLONES
 void to_bytes(const Vec3f* colors, size_t count, uint8_t* rgb) {
     if (count == 0) return;
     const float* channel = &colors[0].x;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "base/simd_clones.h"
 #include "render/integrator.h"
 #include "render/shade.h"
 
@@ -644,6 +645,7 @@ struct HitLanes {
 }
 
 // The base of reflect_light_terms' specular power for every lane (before the power), and N·L.
+RAYCAST_SIMD_CLONES
 void specular_bases(SpecularModel model, const HitLanes& hits, const LaneVectors& to_light, float* n_dot_l,
                     float* base) {
     using shade_detail::positive_part;
@@ -679,6 +681,7 @@ void specular_bases(SpecularModel model, const HitLanes& hits, const LaneVectors
 // Phong are N·L <= 0, a positive shininess and V·R <= 0 (the base is 0 exactly then), and for
 // MIT's clamped Blinn N·L <= 0; the arriving colour must be finite (inf·0 is NaN). MIT's Blinn
 // times N·L asks the scalar function lane by lane.
+RAYCAST_SIMD_CLONES
 void shadow_ray_needs(const Scene& scene, const HitLanes& hits, const LaneVectors& to_light,
                       const LaneVectors& arriving, const float* distance, const float* n_dot_l, const float* base,
                       bool* needs) {
@@ -710,6 +713,7 @@ void shadow_ray_needs(const Scene& scene, const HitLanes& hits, const LaneVector
 // Adds a light's share to every lane (where lit[j], when `lit` is given): reflect_light_terms'
 // diffuse and specular terms (the power found per lane in `power`) times the arriving colour, as
 // local shading adds it.
+RAYCAST_SIMD_CLONES
 void add_light_lanes(SpecularModel model, HitLanes& hits, const LaneVectors& arriving, const float* n_dot_l,
                      const float* power, const bool* lit) {
     using shade_detail::positive_part;
@@ -762,6 +766,7 @@ bool shades_locally(const Scene& scene, const Material& material) {
 }
 
 // Local shading's first term for every lane (the material's colours gathered): the ambient.
+RAYCAST_SIMD_CLONES
 void begin_local_shading(const Scene& scene, HitLanes& hits) {
     for (int j = 0; j < hits.count; ++j) {
         const Material& material = *hits.material[j];
@@ -779,6 +784,7 @@ void begin_local_shading(const Scene& scene, HitLanes& hits) {
 // One light's share added to the lanes' colours where lit[j] (every lane when `lit` is null), and
 // where wanted[j] (every lane when null): its specular power lane by lane (powf: a vector power
 // would round otherwise), then the terms in SIMD.
+RAYCAST_SIMD_CLONES
 void add_light_share(SpecularModel model, HitLanes& hits, const LaneVectors& arriving, const float* n_dot_l,
                      const float* base, const bool* lit, const bool* wanted) {
     float power[kMaxPacketLanes];
@@ -799,6 +805,7 @@ uint64_t count_bits(uint64_t x) {
 
 }  // namespace
 
+RAYCAST_SIMD_CLONES
 void shade_camera_hits_locally(const Integrator& integrator, const Ray* rays, const Hit* hits, int count,
                                const CameraShadows* shadows, RayCounts& counts, Vec3f* colors, bool* shaded) {
     const Scene& scene = integrator.scene;
@@ -886,6 +893,7 @@ struct ShadowPart {
 };
 
 // Fills a part from rays[0..count) (count <= kMaxPacketLanes) up to the lights.
+RAYCAST_SIMD_CLONES
 void prepare_shadow_part(const Scene& scene, bool shading, const Ray* rays, const Hit* hits, int count,
                          CameraShadows* shadows, ShadowPart& part) {
     part.shadows = shadows;
@@ -929,6 +937,7 @@ void prepare_shadow_part(const Scene& scene, bool shading, const Ray* rays, cons
 
 }  // namespace
 
+RAYCAST_SIMD_CLONES
 void trace_camera_shadows(const Integrator& integrator, const PacketTracer& tracer, const Ray* rays, const Hit* hits,
                           int count, CameraShadows* shadows) {
     RAYCAST_DCHECK(count <= kMaxCameraShadowHits);

@@ -196,7 +196,7 @@ constexpr int kMaxDirectionsAtOnce = 16;
 
 /// `count` (at most kMaxDirectionsAtOnce) cosine-distributed directions about `basis` from the
 /// sampler's next `count` pairs of numbers: next_2d_n, then sample_cosine_hemisphere_n, the same
-/// bits. Built for AVX2 as well where the compiler can (sampler.cpp).
+/// bits. Built for AVX-512 and AVX2 as well where the compiler can (base/simd_clones.h).
 void draw_cosine_directions(Sampler& sampler, const HemisphereBasis& basis, int count, float* x_out, float* y_out,
                             float* z_out);
 

@@ -185,10 +185,10 @@ TEST(SamplerTest, NumbersAndDirectionsDrawnTogetherAreTheOnesDrawnOneByOne) {
     }
 }
 
-// draw_cosine_directions is built for AVX2 as well as the baseline (sampler.cpp); whichever copy
-// this machine runs, its directions are the formula's, bit for bit, for every count a packet
-// draws and from fresh and used samplers.
-TEST(SamplerTest, DirectionsDrawnByEitherBuildAreTheFormulas) {
+// draw_cosine_directions is built for AVX-512 and AVX2 as well as the baseline
+// (base/simd_clones.h); whichever copy this machine runs, its directions are the formula's, bit
+// for bit, for every count a packet draws and from fresh and used samplers.
+TEST(SamplerTest, DirectionsDrawnByEveryBuildAreTheFormulas) {
     const Vec3f normals[] = {Vec3f{0, 0, 1}, Vec3f{0, -1, 0}, normalize(Vec3f{0.3f, -0.5f, 0.8f}),
                              normalize(Vec3f{-0.2f, 0.1f, -0.97f})};
     for (const Vec3f normal : normals) {

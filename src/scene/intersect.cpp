@@ -2,6 +2,7 @@
 // BVH, whose leaves send the ray (moved to object space where needed) to a shape's own test.
 #include <cmath>
 
+#include "base/simd_clones.h"
 #include "geometry/triangle.h"
 #include "scene/intersect_packet.h"
 #include "scene/scene.h"
@@ -231,6 +232,7 @@ SurfacePoint surface_at(const Scene& scene, const Ray& ray, const Hit& hit) {
     return surface;
 }
 
+RAYCAST_SIMD_CLONES
 void surface_points(const Scene& scene, const Ray* rays, const Hit* hits, const int* lanes, int count,
                     SurfaceLanes& out) {
     RAYCAST_DCHECK(count <= kMaxPacketLanes);
