@@ -768,10 +768,27 @@ bool shades_locally(const Scene& scene, const Material& material) {
 // Local shading's first term for every lane (the material's colours gathered): the ambient.
 RAYCAST_SIMD_CLONES
 void begin_local_shading(const Scene& scene, HitLanes& hits) {
-    for (int j = 0; j < hits.count; ++j) {
-        const Material& material = *hits.material[j];
-        hits.diffuse.set(j, material.diffuse);
-        hits.specular.set(j, material.specular);
+    // Neighbouring hits are mostly on one material: its colours are then spread over the lanes in
+    // SIMD. Written lane by lane, the colours were read back at once as vectors, which waited for
+    // the single stores to leave the store buffer (most of this function's time in perf).
+    bool one_material = true;
+    for (int j = 1; j < hits.count; ++j) one_material = one_material && hits.material[j] == hits.material[0];
+    if (one_material) {
+        const Vec3f diffuse = hits.material[0]->diffuse, specular = hits.material[0]->specular;
+        for (int j = 0; j < hits.count; ++j) {
+            hits.diffuse.x[j] = diffuse.x;
+            hits.diffuse.y[j] = diffuse.y;
+            hits.diffuse.z[j] = diffuse.z;
+            hits.specular.x[j] = specular.x;
+            hits.specular.y[j] = specular.y;
+            hits.specular.z[j] = specular.z;
+        }
+    } else {
+        for (int j = 0; j < hits.count; ++j) {
+            const Material& material = *hits.material[j];
+            hits.diffuse.set(j, material.diffuse);
+            hits.specular.set(j, material.specular);
+        }
     }
     const Vec3f ambient = scene.ambient;
     for (int j = 0; j < hits.count; ++j) {
