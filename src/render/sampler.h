@@ -34,15 +34,19 @@ struct SampleGrid {
     }
 };
 
+/// Where sample `s` of a pixel falls inside its cell of the grid, in [0, 1)².
+inline Vec2f sample_jitter(uint32_t pixel_index, int s) {
+    const uint32_t seed = hash32(pixel_index * 0x9e3779b9U + static_cast<uint32_t>(s));
+    return {unit_float(hash32(seed ^ 0x68bc21ebU)), unit_float(hash32(seed ^ 0x02e5be93U))};
+}
+
 /// Where sample `s` falls inside its pixel, in [0, 1)²: one jittered point per cell of the grid.
 /// A grid of one cell gives the pixel's own point (½, ½).
 inline Vec2f pixel_sample_offset(const SampleGrid& grid, uint32_t pixel_index, int s) {
     if (grid.columns * grid.rows == 1) return {0.5f, 0.5f};
-    const uint32_t seed = hash32(pixel_index * 0x9e3779b9U + static_cast<uint32_t>(s));
-    const float jitter_x = unit_float(hash32(seed ^ 0x68bc21ebU));
-    const float jitter_y = unit_float(hash32(seed ^ 0x02e5be93U));
-    return {(static_cast<float>(s % grid.columns) + jitter_x) / static_cast<float>(grid.columns),
-            (static_cast<float>(s / grid.columns) + jitter_y) / static_cast<float>(grid.rows)};
+    const Vec2f jitter = sample_jitter(pixel_index, s);
+    return {(static_cast<float>(s % grid.columns) + jitter.x) / static_cast<float>(grid.columns),
+            (static_cast<float>(s / grid.columns) + jitter.y) / static_cast<float>(grid.rows)};
 }
 
 /// The same for `spp` samples (the grid found anew: renderers keep one SampleGrid instead).
