@@ -25,13 +25,17 @@ uint32_t pixel_index(const Camera& camera, int x, int y) {
     return static_cast<uint32_t>(y) * static_cast<uint32_t>(camera.width) + static_cast<uint32_t>(x);
 }
 
-// The point of the image plane, in pixel units, that sample `s` of pixel (x, y) of the full frame
-// goes through: the pixel's own point is (x + pixel_offset, y + pixel_offset), and samples spread
-// ±½ around it.
-Vec2f camera_sample_point(const Camera& camera, const SampleGrid& grid, int x, int y, int s) {
-    const Vec2f offset = pixel_sample_offset(grid, pixel_index(camera, x, y), s);
+// The point of the image plane, in pixel units, of a sample of pixel (x, y) of the full frame
+// that lies at `offset` inside it (pixel_sample_offset): the pixel's own point is
+// (x + pixel_offset, y + pixel_offset), and samples spread ±½ around it.
+Vec2f camera_point_at_offset(const Camera& camera, int x, int y, Vec2f offset) {
     return {static_cast<float>(x) + camera.pixel_offset + (offset.x - 0.5f),
             static_cast<float>(y) + camera.pixel_offset + (offset.y - 0.5f)};
+}
+
+// The point that sample `s` of pixel (x, y) of the full frame goes through.
+Vec2f camera_sample_point(const Camera& camera, const SampleGrid& grid, int x, int y, int s) {
+    return camera_point_at_offset(camera, x, y, pixel_sample_offset(grid, pixel_index(camera, x, y), s));
 }
 
 // The camera rays of sample `s` of `count` pixels of a pinhole camera, (x[k], y[k]) of the full
@@ -47,15 +51,15 @@ void pinhole_sample_rays(const Camera& camera, const SampleGrid& grid, const int
                          Ray* rays) {
     RAYCAST_DCHECK(count <= kMaxPinholeSampleRays);
     float a[kMaxPinholeSampleRays], b[kMaxPinholeSampleRays];
-    // One sample per pixel takes the pixels' centres (render_tile), so the grid has several cells.
+    // One sample per pixel takes the pixels' centres (render_tile), so the grid has several cells:
+    // pixel_sample_offset is then offset_in_cell.
     RAYCAST_DCHECK(grid.columns * grid.rows > 1);
-    const float column = static_cast<float>(s % grid.columns), row = static_cast<float>(s / grid.columns);
-    const float columns = static_cast<float>(grid.columns), rows = static_cast<float>(grid.rows);
+    const SampleCell cell = sample_cell(grid, s);
     for (int k = 0; k < count; ++k) {
-        const Vec2f jitter = sample_jitter(pixel_index(camera, x[k], y[k]), s);
-        const float offset_x = (column + jitter.x) / columns, offset_y = (row + jitter.y) / rows;
-        a[k] = camera_plane_x(camera, static_cast<float>(x[k]) + camera.pixel_offset + (offset_x - 0.5f));
-        b[k] = camera_plane_y(camera, static_cast<float>(y[k]) + camera.pixel_offset + (offset_y - 0.5f));
+        const Vec2f offset = offset_in_cell(cell, sample_jitter(pixel_index(camera, x[k], y[k]), s));
+        const Vec2f point = camera_point_at_offset(camera, x[k], y[k], offset);
+        a[k] = camera_plane_x(camera, point.x);
+        b[k] = camera_plane_y(camera, point.y);
     }
     camera_rays_at(camera, a, b, count, rays);
 }

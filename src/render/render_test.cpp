@@ -184,17 +184,33 @@ RenderOptions options_with(PacketIsa isa = best_packet_isa()) {
 }
 
 // The image as the course's main loop makes it: one ray per pixel, no packets, no tiles.
-Image brute_force(const Scene& scene, bool shadows) {
+// With spp > 1, each pixel is its samples' colours summed in sample order and divided by their
+// count, sample s's ray being camera_ray's at the pixel's point moved by pixel_sample_offset − ½.
+Image brute_force(const Scene& scene, bool shadows, int spp = 1) {
     const Camera& cam = scene.camera;
+    RenderOptions options;
+    options.shadows = shadows;
     Image image(cam.width, cam.height);
     for (int y = 0; y < cam.height; ++y)
         for (int x = 0; x < cam.width; ++x) {
-            const Ray ray = camera_ray(cam, static_cast<float>(x) + cam.pixel_offset, static_cast<float>(y) + cam.pixel_offset);
-            Hit hit;
-            intersect(scene, ray, cam.t_min, hit);
-            RenderOptions options;
-            options.shadows = shadows;
-            image.at(x, y) = radiance_along(scene, options, ray, hit);
+            if (spp == 1) {
+                const Ray ray = camera_ray(cam, static_cast<float>(x) + cam.pixel_offset, static_cast<float>(y) + cam.pixel_offset);
+                Hit hit;
+                intersect(scene, ray, cam.t_min, hit);
+                image.at(x, y) = radiance_along(scene, options, ray, hit);
+                continue;
+            }
+            Vec3f sum;
+            for (int s = 0; s < spp; ++s) {
+                const Vec2f offset = pixel_sample_offset(static_cast<uint32_t>(y * cam.width + x), s, spp);
+                const Ray ray = camera_ray(cam, static_cast<float>(x) + cam.pixel_offset + (offset.x - 0.5f),
+                                           static_cast<float>(y) + cam.pixel_offset + (offset.y - 0.5f));
+                Hit hit;
+                intersect(scene, ray, cam.t_min, hit);
+                const Vec3f color = radiance_along(scene, options, ray, hit);
+                sum = s == 0 ? color : sum + color;
+            }
+            image.at(x, y) = sum / static_cast<float>(spp);
         }
     return image;
 }
@@ -1114,34 +1130,17 @@ TEST(RenderTest, SupersamplingAveragesToTheFlatColourInsideAndOtherCountsWork) {
     }
 }
 
-// Each pixel of a supersampled render is its samples' colours summed in sample order and divided
-// by their count, sample s's ray being camera_ray's at the pixel's point moved by
-// pixel_sample_offset − ½: the renderer makes a block's sample rays together, in SIMD, and they
-// must be these rays to the bit, on every path and with shadows.
+// A supersampled render is brute_force's average of each sample's own camera ray: the renderer
+// makes a block's sample rays together, in SIMD, and they must be these rays to the bit, on every
+// path and with shadows.
 TEST(RenderTest, SupersamplingIsTheAverageOfEachSamplesOwnCameraRay) {
     for (const Scene& scene : {mesh_scene(), spheres_scene(), transformed_scene()}) {
-        const Camera& cam = scene.camera;
         for (int spp : {3, 4}) {
             for (bool shadows : {false, true}) {
+                const Image expected = brute_force(scene, shadows, spp);
                 RenderOptions options;
                 options.samples_per_pixel = spp;
                 options.shadows = shadows;
-                Image expected(cam.width, cam.height);
-                for (int y = 0; y < cam.height; ++y)
-                    for (int x = 0; x < cam.width; ++x) {
-                        const uint32_t pixel = static_cast<uint32_t>(y * cam.width + x);
-                        Vec3f sum;
-                        for (int s = 0; s < spp; ++s) {
-                            const Vec2f offset = pixel_sample_offset(pixel, s, spp);
-                            const Ray ray = camera_ray(cam, static_cast<float>(x) + cam.pixel_offset + (offset.x - 0.5f),
-                                                       static_cast<float>(y) + cam.pixel_offset + (offset.y - 0.5f));
-                            Hit hit;
-                            intersect(scene, ray, cam.t_min, hit);
-                            const Vec3f color = radiance_along(scene, options, ray, hit);
-                            sum = s == 0 ? color : sum + color;
-                        }
-                        expected.at(x, y) = sum / static_cast<float>(spp);
-                    }
                 EXPECT_TRUE(same_floats(render_image(scene, options), expected)) << spp << " " << shadows;
                 options.packet_isa = PacketIsa::None;
                 EXPECT_TRUE(same_floats(render_image(scene, options), expected)) << spp << " " << shadows;

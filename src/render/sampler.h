@@ -40,13 +40,26 @@ inline Vec2f sample_jitter(uint32_t pixel_index, int s) {
     return {unit_float(hash32(seed ^ 0x68bc21ebU)), unit_float(hash32(seed ^ 0x02e5be93U))};
 }
 
+/// Sample `s`'s cell of the grid, the same for every pixel: its column and row, and the grid's
+/// columns and rows, as the offsets' arithmetic uses them.
+struct SampleCell {
+    float column, row, columns, rows;
+};
+inline SampleCell sample_cell(const SampleGrid& grid, int s) {
+    return {static_cast<float>(s % grid.columns), static_cast<float>(s / grid.columns),
+            static_cast<float>(grid.columns), static_cast<float>(grid.rows)};
+}
+
+/// Where a sample jittered by `jitter` (sample_jitter) in `cell` falls inside its pixel, in [0, 1)².
+inline Vec2f offset_in_cell(const SampleCell& cell, Vec2f jitter) {
+    return {(cell.column + jitter.x) / cell.columns, (cell.row + jitter.y) / cell.rows};
+}
+
 /// Where sample `s` falls inside its pixel, in [0, 1)²: one jittered point per cell of the grid.
 /// A grid of one cell gives the pixel's own point (½, ½).
 inline Vec2f pixel_sample_offset(const SampleGrid& grid, uint32_t pixel_index, int s) {
     if (grid.columns * grid.rows == 1) return {0.5f, 0.5f};
-    const Vec2f jitter = sample_jitter(pixel_index, s);
-    return {(static_cast<float>(s % grid.columns) + jitter.x) / static_cast<float>(grid.columns),
-            (static_cast<float>(s / grid.columns) + jitter.y) / static_cast<float>(grid.rows)};
+    return offset_in_cell(sample_cell(grid, s), sample_jitter(pixel_index, s));
 }
 
 /// The same for `spp` samples (the grid found anew: renderers keep one SampleGrid instead).
